@@ -1,0 +1,35 @@
+#pragma once
+// The small command-line parser every pf2_* app uses, so that all of them read options the same
+// way: "--name value", "--flag", positionals, "-h"/"--help". Errors throw pf2::Error naming the
+// option. Take the options first, then positionals(), which rejects anything left unread.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pf2 {
+
+class CommandLine {
+ public:
+  CommandLine(int argc, const char* const* argv);
+
+  bool helpRequested() const;
+  // True if --name is present (it is consumed).
+  bool flag(const std::string& name);
+  // The argument after --name, consumed; nullopt when absent; throws when --name is last.
+  std::optional<std::string> value(const std::string& name);
+  std::string value(const std::string& name, const std::string& fallback);
+  double number(const std::string& name, double fallback);
+  int integer(const std::string& name, int fallback);
+  // Remaining arguments; throws on an unknown option (anything left starting with '-').
+  std::vector<std::string> positionals();
+
+ private:
+  std::vector<std::string> args_;
+  std::vector<bool> used_;
+};
+
+// Runs body(); on pf2::Error or std::exception prints "<program>: error: <what>" to stderr and
+// returns 1. Apps return its result from main.
+int runApp(const char* program, int (*body)(int, char**), int argc, char** argv);
+
+}  // namespace pf2

@@ -1,0 +1,98 @@
+#include "pf2/core/camera_intrinsics.h"
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "pf2/core/atomic_file.h"
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+namespace {
+CameraIntrinsics make(double fx, double fy, double cx, double cy) {
+  CameraIntrinsics k;
+  k.fx = fx;
+  k.fy = fy;
+  k.cx = cx;
+  k.cy = cy;
+  k.width = 640;
+  k.height = 480;
+  return k;
+}
+}  // namespace
+
+CameraIntrinsics CameraIntrinsics::tumFreiburg1() { return make(517.3, 516.5, 318.6, 255.3); }
+CameraIntrinsics CameraIntrinsics::tumFreiburg2() { return make(520.9, 521.0, 325.1, 249.7); }
+CameraIntrinsics CameraIntrinsics::tumFreiburg3() { return make(535.4, 539.2, 320.1, 247.6); }
+
+CameraIntrinsics CameraIntrinsics::preset(const std::string& name) {
+  if (name == "fr1") return tumFreiburg1();
+  if (name == "fr2") return tumFreiburg2();
+  if (name == "fr3") return tumFreiburg3();
+  throw Error("unknown camera preset '" + name + "' (expected fr1, fr2 or fr3)");
+}
+
+CameraIntrinsics CameraIntrinsics::load(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw fileError(path, "cannot open calibration file");
+  std::map<std::string, double> values;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream fields(line);
+    std::string key;
+    if (!(fields >> key)) continue;  // blank or comment line
+    double value = 0.0;
+    std::string extra;
+    if (!(fields >> value) || (fields >> extra)) {
+      throw fileError(path, line_number, "expected 'key value', got '" + line + "'");
+    }
+    if (key != "fx" && key != "fy" && key != "cx" && key != "cy" && key != "width" &&
+        key != "height") {
+      throw fileError(path, line_number, "unknown key '" + key + "'");
+    }
+    values[key] = value;
+  }
+  for (const char* key : {"fx", "fy", "cx", "cy", "width", "height"}) {
+    if (!values.count(key)) throw fileError(path, std::string("missing key '") + key + "'");
+  }
+  CameraIntrinsics k;
+  k.fx = values["fx"];
+  k.fy = values["fy"];
+  k.cx = values["cx"];
+  k.cy = values["cy"];
+  k.width = static_cast<int>(values["width"]);
+  k.height = static_cast<int>(values["height"]);
+  if (!(k.fx > 0 && k.fy > 0 && k.width > 0 && k.height > 0)) {
+    throw fileError(path, "focal lengths and image size must be positive");
+  }
+  return k;
+}
+
+void CameraIntrinsics::save(const std::string& path) const {
+  writeFileAtomically(path, [this](std::ostream& out) {
+    out.precision(10);
+    out << "# PoseFusion2 camera calibration (pinhole, pixels)\n"
+        << "fx " << fx << "\nfy " << fy << "\ncx " << cx << "\ncy " << cy << "\nwidth " << width
+        << "\nheight " << height << "\n";
+  });
+}
+
+CameraIntrinsics CameraIntrinsics::scaled(double factor) const {
+  CameraIntrinsics k = *this;
+  k.fx *= factor;
+  k.fy *= factor;
+  // Pixel centres: continuous coordinate c maps to (c + 0.5) * f - 0.5.
+  k.cx = (cx + 0.5) * factor - 0.5;
+  k.cy = (cy + 0.5) * factor - 0.5;
+  k.width = static_cast<int>(width * factor + 0.5);
+  k.height = static_cast<int>(height * factor + 0.5);
+  return k;
+}
+
+}  // namespace pf2

@@ -1,0 +1,92 @@
+#include "pf2/core/command_line.h"
+
+#include <cmath>
+#include <exception>
+#include <iostream>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+CommandLine::CommandLine(int argc, const char* const* argv) {
+  for (int i = 1; i < argc; ++i) args_.emplace_back(argv[i]);
+  used_.assign(args_.size(), false);
+}
+
+bool CommandLine::helpRequested() const {
+  for (const std::string& a : args_) {
+    if (a == "-h" || a == "--help") return true;
+  }
+  return false;
+}
+
+bool CommandLine::flag(const std::string& name) {
+  bool found = false;
+  for (size_t i = 0; i < args_.size(); ++i) {
+    if (!used_[i] && args_[i] == name) used_[i] = found = true;
+  }
+  return found;
+}
+
+std::optional<std::string> CommandLine::value(const std::string& name) {
+  std::optional<std::string> result;
+  for (size_t i = 0; i < args_.size(); ++i) {
+    if (used_[i] || args_[i] != name) continue;
+    if (i + 1 >= args_.size()) throw Error("option " + name + " needs a value");
+    used_[i] = used_[i + 1] = true;
+    result = args_[i + 1];
+  }
+  return result;
+}
+
+std::string CommandLine::value(const std::string& name, const std::string& fallback) {
+  return value(name).value_or(fallback);
+}
+
+double CommandLine::number(const std::string& name, double fallback) {
+  const auto text = value(name);
+  if (!text) return fallback;
+  try {
+    size_t end = 0;
+    const double v = std::stod(*text, &end);
+    if (end == text->size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw Error("option " + name + ": expected a number, got '" + *text + "'");
+}
+
+int CommandLine::integer(const std::string& name, int fallback) {
+  const auto text = value(name);
+  if (!text) return fallback;
+  try {
+    size_t end = 0;
+    const int v = std::stoi(*text, &end);
+    if (end == text->size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw Error("option " + name + ": expected an integer, got '" + *text + "'");
+}
+
+std::vector<std::string> CommandLine::positionals() {
+  std::vector<std::string> result;
+  for (size_t i = 0; i < args_.size(); ++i) {
+    if (used_[i]) continue;
+    if (args_[i].size() > 1 && args_[i][0] == '-' &&
+        !std::isdigit(static_cast<unsigned char>(args_[i][1])) && args_[i][1] != '.') {
+      throw Error("unknown option " + args_[i] + " (see -h)");
+    }
+    result.push_back(args_[i]);
+  }
+  return result;
+}
+
+int runApp(const char* program, int (*body)(int, char**), int argc, char** argv) {
+  try {
+    return body(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << program << ": error: " << e.what() << std::endl;
+    return 1;
+  }
+}
+
+}  // namespace pf2

@@ -1,0 +1,102 @@
+#include "pf2/io/tum_lists.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+namespace {
+
+// Calls handle(fields, line_number) for every non-comment, non-blank line; CRLF tolerated.
+template <typename Handler>
+void forEachDataLine(const std::string& path, Handler handle) {
+  std::ifstream in(path);
+  if (!in) throw fileError(path, "cannot open file");
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    handle(fields, line, line_number);
+  }
+}
+
+bool readEntry(std::istringstream& fields, int line_number, TumListEntry* entry) {
+  entry->line = line_number;
+  return static_cast<bool>(fields >> entry->timestamp >> entry->file) &&
+         std::isfinite(entry->timestamp);
+}
+
+}  // namespace
+
+std::vector<TumListEntry> readTumList(const std::string& path) {
+  std::vector<TumListEntry> entries;
+  forEachDataLine(path, [&](std::istringstream& fields, const std::string& line, int number) {
+    TumListEntry entry;
+    if (!readEntry(fields, number, &entry)) {
+      throw fileError(path, number, "expected 'timestamp filename', got '" + line + "'");
+    }
+    entries.push_back(entry);
+  });
+  return entries;
+}
+
+std::vector<TumAssociation> readTumAssociations(const std::string& path) {
+  std::vector<TumAssociation> pairs;
+  forEachDataLine(path, [&](std::istringstream& fields, const std::string& line, int number) {
+    TumAssociation pair;
+    if (!readEntry(fields, number, &pair.rgb) || !readEntry(fields, number, &pair.depth)) {
+      throw fileError(path, number,
+                      "expected 'rgb_stamp rgb_file depth_stamp depth_file', got '" + line + "'");
+    }
+    pairs.push_back(pair);
+  });
+  return pairs;
+}
+
+std::vector<std::pair<size_t, size_t>> associateTimestamps(const std::vector<double>& a,
+                                                           const std::vector<double>& b,
+                                                           double max_difference) {
+  // Candidates within the window, found on sorted copies so this stays O(n log n + candidates).
+  std::vector<size_t> order_b(b.size());
+  for (size_t j = 0; j < b.size(); ++j) order_b[j] = j;
+  std::sort(order_b.begin(), order_b.end(), [&](size_t x, size_t y) { return b[x] < b[y]; });
+
+  struct Candidate {
+    double difference;
+    size_t i, j;
+  };
+  std::vector<Candidate> candidates;
+  for (size_t i = 0; i < a.size(); ++i) {
+    auto it = std::lower_bound(order_b.begin(), order_b.end(), a[i] - max_difference,
+                               [&](size_t j, double value) { return b[j] < value; });
+    for (; it != order_b.end() && b[*it] < a[i] + max_difference; ++it) {
+      const double difference = std::abs(a[i] - b[*it]);
+      if (difference < max_difference) candidates.push_back({difference, i, *it});
+    }
+  }
+  // Closest first; ties broken by index so the result does not depend on sort stability.
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+    if (x.difference != y.difference) return x.difference < y.difference;
+    if (x.i != y.i) return x.i < y.i;
+    return x.j < y.j;
+  });
+  std::vector<bool> used_a(a.size(), false), used_b(b.size(), false);
+  std::vector<std::pair<size_t, size_t>> matches;
+  for (const Candidate& c : candidates) {
+    if (used_a[c.i] || used_b[c.j]) continue;
+    used_a[c.i] = used_b[c.j] = true;
+    matches.emplace_back(c.i, c.j);
+  }
+  std::sort(matches.begin(), matches.end());
+  return matches;
+}
+
+}  // namespace pf2

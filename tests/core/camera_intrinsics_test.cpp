@@ -1,0 +1,55 @@
+#include "pf2/core/camera_intrinsics.h"
+
+#include <cstdio>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+namespace {
+
+TEST(CameraIntrinsics, PresetsAreTheBenchmarkValues) {
+  const CameraIntrinsics fr1 = CameraIntrinsics::preset("fr1");
+  EXPECT_DOUBLE_EQ(fr1.fx, 517.3);
+  EXPECT_DOUBLE_EQ(fr1.cy, 255.3);
+  EXPECT_DOUBLE_EQ(CameraIntrinsics::preset("fr2").fx, 520.9);
+  EXPECT_DOUBLE_EQ(CameraIntrinsics::preset("fr3").fy, 539.2);
+  EXPECT_THROW(CameraIntrinsics::preset("fr4"), Error);
+}
+
+TEST(CameraIntrinsics, ProjectInvertsBackProject) {
+  const CameraIntrinsics k = CameraIntrinsics::tumFreiburg3();
+  const Eigen::Vector3d p = k.backProject(100.5, 400.25, 2.5);
+  EXPECT_NEAR(p.z(), 2.5, 1e-12);
+  const Eigen::Vector2d uv = k.project(p);
+  EXPECT_NEAR(uv.x(), 100.5, 1e-9);
+  EXPECT_NEAR(uv.y(), 400.25, 1e-9);
+}
+
+TEST(CameraIntrinsics, SaveLoadRoundTripAndErrors) {
+  const std::string path = testing::TempDir() + "pf2_camera.txt";
+  CameraIntrinsics k = CameraIntrinsics::tumFreiburg2();
+  k.width = 320;
+  k.save(path);
+  const CameraIntrinsics loaded = CameraIntrinsics::load(path);
+  EXPECT_DOUBLE_EQ(loaded.fx, k.fx);
+  EXPECT_DOUBLE_EQ(loaded.cy, k.cy);
+  EXPECT_EQ(loaded.width, 320);
+
+  std::ofstream(path) << "fx 500\nfy 500\r\ncx 1 2\n";
+  try {
+    CameraIntrinsics::load(path);
+    FAIL() << "malformed line accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":3:"), std::string::npos) << e.what();
+  }
+  std::ofstream(path) << "# no height\nfx 500\nfy 500\ncx 1\ncy 2\nwidth 640\n";
+  EXPECT_THROW(CameraIntrinsics::load(path), Error);
+  std::remove(path.c_str());
+  EXPECT_THROW(CameraIntrinsics::load(path), Error);
+}
+
+}  // namespace
+}  // namespace pf2
