@@ -1,0 +1,85 @@
+#pragma once
+// SMPL-compatible linear-blend-skinning body model: 24 joints in SMPL's kinematic tree and order,
+// pose as 24 axis-angle rotations (relative to the parent joint), shape coefficients (betas),
+// root translation. Units: metres. Body frame as SMPL's: y up, the body faces +z, x to its left.
+//
+//   vertices = LBS(template + shapedirs * betas + posedirs * pose_feature, joints, weights)
+//   joints   = J_regressor * (template + shapedirs * betas)
+//
+// The data come from an SMPL-format .npz (v_template, shapedirs, posedirs, J_regressor, weights,
+// kintree_table, f): the project's own default model (built from CC0 MakeHuman/MPFB2 data) or the
+// official SMPL model for users who hold its licence.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace pcl {
+struct PolygonMesh;
+}
+
+namespace pf2 {
+
+constexpr int kBodyJointCount = 24;
+
+// SMPL's joint order: 0 pelvis, 1 left_hip, 2 right_hip, 3 spine1, 4 left_knee, 5 right_knee,
+// 6 spine2, 7 left_ankle, 8 right_ankle, 9 spine3, 10 left_foot, 11 right_foot, 12 neck,
+// 13 left_collar, 14 right_collar, 15 head, 16 left_shoulder, 17 right_shoulder, 18 left_elbow,
+// 19 right_elbow, 20 left_wrist, 21 right_wrist, 22 left_hand, 23 right_hand.
+extern const std::array<const char*, kBodyJointCount> kBodyJointNames;
+// Parent of each joint in that order; -1 for the pelvis (root).
+extern const std::array<int, kBodyJointCount> kBodyJointParents;
+
+struct BodyParameters {
+  // Axis-angle rotation of each joint relative to its parent (radians); all zero = rest pose.
+  std::array<Eigen::Vector3d, kBodyJointCount> pose;
+  // Shape coefficients; missing ones count as zero, extra ones beyond the model's are ignored.
+  Eigen::VectorXd shape;
+  // Translation of the root (added after posing), metres.
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+
+  BodyParameters() : shape(Eigen::VectorXd::Zero(10)) {
+    for (auto& p : pose) p.setZero();
+  }
+};
+
+struct BodyMesh {
+  std::vector<Eigen::Vector3f> vertices;             // posed, metres
+  std::vector<Eigen::Vector3i> triangles;            // vertex indices, counter-clockwise outward
+  std::array<Eigen::Vector3d, kBodyJointCount> joints;  // posed joint positions, metres
+};
+
+class BodyModel {
+ public:
+  // Reads an SMPL-format .npz. Throws pf2::Error naming the file and the array on any problem
+  // (missing array, wrong shape or dtype, corrupt zip).
+  static BodyModel loadNpz(const std::string& path);
+  // The model that ships with the project (environment variable PF2_BODY_MODEL overrides the path).
+  static BodyModel loadDefault();
+  static std::string defaultModelPath();
+
+  int vertexCount() const { return static_cast<int>(v_template_.rows()); }
+  int shapeCount() const { return static_cast<int>(shapedirs_.size()); }
+  const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
+
+  // Poses the model. Thread safe (const).
+  BodyMesh evaluate(const BodyParameters& parameters) const;
+  // Rest-pose joints for a shape (no pose, no translation).
+  std::array<Eigen::Vector3d, kBodyJointCount> restJoints(const Eigen::VectorXd& shape) const;
+  // Per-vertex skinning weights (vertexCount x 24), rows sum to 1.
+  const Eigen::MatrixXf& weights() const { return weights_; }
+
+ private:
+  Eigen::Matrix<float, Eigen::Dynamic, 3> v_template_;                 // V x 3
+  std::vector<Eigen::Matrix<float, Eigen::Dynamic, 3>> shapedirs_;     // per beta: V x 3
+  Eigen::MatrixXf posedirs_;            // (V*3) x 207, empty when the model has no pose blend shapes
+  Eigen::MatrixXf J_regressor_;         // 24 x V
+  Eigen::MatrixXf weights_;             // V x 24
+  std::vector<Eigen::Vector3i> triangles_;
+};
+
+// The posed mesh as a PCL polygon mesh (vertices in a pcl::PointCloud<pcl::PointXYZ> blob).
+void toPolygonMesh(const BodyMesh& mesh, pcl::PolygonMesh* polygon_mesh);
+
+}  // namespace pf2
