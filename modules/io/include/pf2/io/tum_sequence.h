@@ -5,12 +5,13 @@
 #include <vector>
 
 #include "pf2/core/frame.h"
+#include "pf2/core/frame_source.h"
 #include "pf2/core/pose.h"
 #include "pf2/io/tum_lists.h"
 
 namespace pf2 {
 
-class TumSequence {
+class TumSequence : public FrameSource {
  public:
   struct Options {
     // Depth PNG value per metre (TUM: 5000).
@@ -29,7 +30,8 @@ class TumSequence {
   explicit TumSequence(const std::string& folder);
   TumSequence(const std::string& folder, const Options& options);
 
-  size_t size() const { return pairs_.size(); }
+  size_t size() const override { return pairs_.size(); }
+  std::string description() const override { return "TUM folder " + folder_; }
   const std::string& folder() const { return folder_; }
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
   // The colour image's timestamp of frame i (the frame's timestamp).
@@ -39,7 +41,7 @@ class TumSequence {
   // Loads frame i. Throws pf2::Error naming the image when it is missing, unreadable, of the wrong
   // type (depth must be 16-bit single channel) or of a size other than the calibration's.
   // Thread safe (reads only).
-  Frame frame(size_t i) const;
+  Frame frame(size_t i) const override;
 
   // groundtruth.txt of the folder, empty when the folder has none.
   bool hasGroundTruth() const;
