@@ -1,0 +1,106 @@
+#pragma once
+// Frame-to-keyframe RGB-D odometry on human-free depth.
+//
+// Coarse: FeatureAligner (ORB + 3D-3D RANSAC) when asked for or when no good prior exists.
+// Fine: dense Gauss-Newton over a 3-level pyramid minimising, for each sampled pixel of the current
+// frame, a photometric residual I_ref(pi(T p_cur)) - I_cur(u) and a point-to-plane residual
+// n_ref . (T p_cur - p_ref) under projective data association, each normalised by its noise
+// (intensity sigma; depth noise growing with z^2) and weighted by Huber's M-estimator. Jacobians
+// are analytic (left perturbation of T_ref_cur); the normal equations are accumulated in parallel
+// stripes (cv::parallel_for_).
+//
+// Pixels with depth 0 (no measurement, removed people) never take part; a person mask passed to
+// prepare() removes those pixels from depth and from feature extraction as well.
+#include <memory>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "pf2/core/frame.h"
+#include "pf2/registration/feature_aligner.h"
+#include "pf2/registration/odometry_frame.h"
+
+namespace pf2 {
+
+// Quality of a dense alignment; `valid` is the verdict from the Options thresholds.
+struct DenseAlignment {
+  bool valid = false;
+  Eigen::Isometry3d T_ref_cur = Eigen::Isometry3d::Identity();
+  int sampled_points = 0;        // current-frame samples with depth at the finest level used
+  int associated_points = 0;     // of those, projected onto reference pixels with depth
+  int inlier_points = 0;         // of those, with a point-to-plane residual below inlier_distance
+  double inlier_ratio = 0.0;     // inlier_points / sampled_points (overlap and consistency)
+  double geometric_rmse = 0.0;   // metres, point-to-plane over the inliers
+  double photometric_rmse = 0.0; // intensity [0,1] over the inliers
+  double hessian_condition = 0.0;  // largest / smallest eigenvalue of the final 6x6 normal matrix
+  int iterations = 0;            // Gauss-Newton iterations over all levels
+};
+
+struct OdometryResult {
+  bool valid = false;
+  Eigen::Isometry3d T_ref_cur = Eigen::Isometry3d::Identity();
+  bool used_features = false;  // the sparse stage ran
+  SparseAlignment sparse;      // meaningful when used_features
+  DenseAlignment dense;
+};
+
+class RgbdOdometry {
+ public:
+  struct Options {
+    int pyramid_levels = 3;        // levels, each half the size of the one above
+    int finest_level = 0;          // the finest level iterated (1 = stop at 320x240: faster, coarser)
+    int iterations_coarse = 12;    // Gauss-Newton iterations at the coarsest level
+    int iterations_fine = 4;       // at the finest level; levels between interpolate
+    int finest_stride = 2;         // pixel step when sampling the finest level 0 (1 = every pixel)
+    double min_depth = 0.2;        // metres; closer depth is discarded
+    double max_depth = 6.0;        // metres; farther depth is discarded (TUM depth gets noisy)
+    int person_mask_dilation = 4;  // pixels added around a person mask before it is cut out
+    double intensity_sigma = 0.04;   // expected photometric noise, intensity units [0,1]
+    double depth_sigma = 0.004;      // point-to-plane noise at 1 m depth, metres (grows with z^2)
+    double photometric_weight = 1.0; // relative weight of the photometric term (0 = ICP only)
+    double huber_k = 1.345;          // Huber threshold on normalised residuals
+    double max_depth_difference = 0.07;  // metres; larger |z_ref - z| is occlusion, not a match
+    double max_normal_gradient = 0.3;    // metres per pixel of depth change kept in normal estimation
+    double convergence_step = 1e-6;  // stop a level when the update is below this (m and rad)
+    // Verdict thresholds:
+    double inlier_distance = 0.03;   // metres, point-to-plane residual counted as inlier
+    int min_inliers = 800;           // at the finest level used (after sampling)
+    double min_inlier_ratio = 0.35;  // inlier_points / sampled_points
+    double max_condition = 1e7;      // larger Hessian condition -> degenerate geometry, not valid
+    double max_motion_from_prior = 0.3;  // metres; dense result farther from its start is rejected
+    // When the sparse stage runs: always (robust, costs ~5 ms) or only when the dense alignment
+    // from the prior is not valid.
+    bool features_every_frame = false;
+    FeatureAligner::Options features;
+  };
+
+  RgbdOdometry();
+  explicit RgbdOdometry(const Options& options);
+  const Options& options() const { return options_; }
+  const FeatureAligner& featureAligner() const { return features_; }
+
+  // Pyramids of a frame. person_mask: empty, or CV_8U of the frame's size, 255 = person. Throws
+  // pf2::Error on images of wrong type or size. Thread safe.
+  OdometryFrame prepare(const Frame& frame, const cv::Mat& person_mask = cv::Mat()) const;
+  // Adds gradients and normals so the frame can be a reference (keyframe). Idempotent. Thread
+  // safe for distinct frames.
+  void makeReference(OdometryFrame* frame) const;
+
+  // Dense refinement from T_ref_cur_guess. The reference must have been made a reference.
+  // Thread safe.
+  DenseAlignment refine(const OdometryFrame& reference, const OdometryFrame& current,
+                        const Eigen::Isometry3d& T_ref_cur_guess) const;
+
+  // Sparse (per Options) + dense. Features are extracted on demand, hence the non-const
+  // frames. Thread safe for distinct frames.
+  OdometryResult estimate(OdometryFrame* reference, OdometryFrame* current,
+                          const Eigen::Isometry3d& T_ref_cur_guess) const;
+  // Sparse first, then dense from its pose (no prior: relocalisation, loop verification).
+  OdometryResult estimateWithoutPrior(OdometryFrame* reference, OdometryFrame* current) const;
+
+ private:
+  Options options_;
+  FeatureAligner features_;
+};
+
+}  // namespace pf2

@@ -1,0 +1,418 @@
+#include "pf2/registration/rgbd_odometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+namespace {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+// Pyramid level l of cv::pyrDown samples input pixel 2i at output pixel i, so pixel coordinates
+// (and the principal point) halve exactly.
+CameraIntrinsics levelIntrinsics(const CameraIntrinsics& k, int level) {
+  CameraIntrinsics out = k;
+  const double s = 1.0 / (1 << level);
+  out.fx *= s;
+  out.fy *= s;
+  out.cx *= s;
+  out.cy *= s;
+  out.width = (k.width + (1 << level) - 1) >> level;
+  out.height = (k.height + (1 << level) - 1) >> level;
+  return out;
+}
+
+// Halves a depth map around even pixels (as pyrDown does for intensity): the mean of the 3x3
+// neighbours that lie on the same surface as the centre; no centre depth -> 0. Averaging across a
+// depth edge would invent points in mid-air, hence the band.
+cv::Mat downsampleDepth(const cv::Mat& depth, int rows, int cols) {
+  cv::Mat out(rows, cols, CV_32F, cv::Scalar(0));
+  for (int v = 0; v < rows; ++v) {
+    float* dst = out.ptr<float>(v);
+    const int v0 = 2 * v;
+    for (int u = 0; u < cols; ++u) {
+      const int u0 = 2 * u;
+      if (v0 >= depth.rows || u0 >= depth.cols) continue;
+      const float zc = depth.at<float>(v0, u0);
+      if (!(zc > 0.0f)) continue;
+      const float band = 0.03f * zc;
+      float sum = 0.0f;
+      int n = 0;
+      for (int dv = -1; dv <= 1; ++dv) {
+        const int vv = v0 + dv;
+        if (vv < 0 || vv >= depth.rows) continue;
+        const float* row = depth.ptr<float>(vv);
+        for (int du = -1; du <= 1; ++du) {
+          const int uu = u0 + du;
+          if (uu < 0 || uu >= depth.cols) continue;
+          const float z = row[uu];
+          if (z > 0.0f && std::fabs(z - zc) < band) {
+            sum += z;
+            ++n;
+          }
+        }
+      }
+      dst[u] = sum / n;
+    }
+  }
+  return out;
+}
+
+// Unit normals from neighbouring points `step` pixels away; one-sided differences at holes,
+// nothing across depth jumps larger than max_jump (relative to depth).
+cv::Mat computeNormals(const cv::Mat& depth, const CameraIntrinsics& k, int step, double max_jump) {
+  cv::Mat normals(depth.size(), CV_32FC3, cv::Scalar(0, 0, 0));
+  auto point = [&](int u, int v, Eigen::Vector3f* p) {
+    if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return false;
+    const float z = depth.at<float>(v, u);
+    if (!(z > 0.0f)) return false;
+    *p = Eigen::Vector3f(static_cast<float>((u - k.cx) * z / k.fx),
+                         static_cast<float>((v - k.cy) * z / k.fy), z);
+    return true;
+  };
+  cv::parallel_for_(cv::Range(0, depth.rows), [&](const cv::Range& range) {
+    for (int v = range.start; v < range.end; ++v) {
+      cv::Vec3f* dst = normals.ptr<cv::Vec3f>(v);
+      for (int u = 0; u < depth.cols; ++u) {
+        Eigen::Vector3f pc;
+        if (!point(u, v, &pc)) continue;
+        const float jump = static_cast<float>(max_jump * step) * pc.z();
+        auto near = [&](int uu, int vv, Eigen::Vector3f* p) {
+          return point(uu, vv, p) && std::fabs(p->z() - pc.z()) < jump;
+        };
+        Eigen::Vector3f a, b, dx, dy;
+        const bool right = near(u + step, v, &a), left = near(u - step, v, &b);
+        if (right && left) dx = a - b;
+        else if (right) dx = a - pc;
+        else if (left) dx = pc - b;
+        else continue;
+        const bool down = near(u, v + step, &a), up = near(u, v - step, &b);
+        if (down && up) dy = a - b;
+        else if (down) dy = a - pc;
+        else if (up) dy = pc - b;
+        else continue;
+        Eigen::Vector3f n = dx.cross(dy);
+        const float norm = n.norm();
+        if (!(norm > 0.0f)) continue;
+        n /= norm;
+        if (n.dot(pc) > 0.0f) n = -n;  // face the camera
+        dst[u] = cv::Vec3f(n.x(), n.y(), n.z());
+      }
+    }
+  });
+  return normals;
+}
+
+inline float bilinear(const cv::Mat& image, float u, float v) {
+  const int u0 = static_cast<int>(u), v0 = static_cast<int>(v);
+  const float a = u - u0, b = v - v0;
+  const float* r0 = image.ptr<float>(v0) + u0;
+  const float* r1 = image.ptr<float>(v0 + 1) + u0;
+  return (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
+}
+
+inline double huberWeight(double e, double k) {
+  const double a = std::fabs(e);
+  return a <= k ? 1.0 : k / a;
+}
+
+// x_{k+1} = exp(delta) x_k with delta = (translation, rotation vector): the left perturbation
+// the Jacobians below are taken for.
+Eigen::Isometry3d applyUpdate(const Vector6d& delta, const Eigen::Isometry3d& T) {
+  Eigen::Isometry3d D = Eigen::Isometry3d::Identity();
+  const Eigen::Vector3d phi = delta.tail<3>();
+  const double angle = phi.norm();
+  if (angle > 1e-12) D.linear() = Eigen::AngleAxisd(angle, phi / angle).toRotationMatrix();
+  D.translation() = delta.head<3>();
+  Eigen::Isometry3d out = D * T;
+  // Re-orthonormalise so rounding never accumulates into a non-rotation.
+  out.linear() = Eigen::Quaterniond(out.rotation()).normalized().toRotationMatrix();
+  return out;
+}
+
+// Current-frame samples of one level, structure of arrays for a tight inner loop.
+struct Samples {
+  std::vector<Eigen::Vector3f> points;  // p_cur
+  std::vector<float> intensity;         // I_cur at the sample
+};
+
+Samples sampleLevel(const OdometryLevel& level, int stride) {
+  Samples s;
+  const CameraIntrinsics& k = level.intrinsics;
+  for (int v = 0; v < level.depth.rows; v += stride) {
+    const float* z_row = level.depth.ptr<float>(v);
+    const float* i_row = level.intensity.ptr<float>(v);
+    for (int u = 0; u < level.depth.cols; u += stride) {
+      const float z = z_row[u];
+      if (!(z > 0.0f)) continue;
+      s.points.emplace_back(static_cast<float>((u - k.cx) * z / k.fx),
+                            static_cast<float>((v - k.cy) * z / k.fy), z);
+      s.intensity.push_back(i_row[u]);
+    }
+  }
+  return s;
+}
+
+struct Accumulator {
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d b = Vector6d::Zero();
+  int associated = 0;
+  int inliers = 0;
+  double geometric_sq = 0.0;
+  double photometric_sq = 0.0;
+
+  void add(const Accumulator& o) {
+    H += o.H;
+    b += o.b;
+    associated += o.associated;
+    inliers += o.inliers;
+    geometric_sq += o.geometric_sq;
+    photometric_sq += o.photometric_sq;
+  }
+};
+
+}  // namespace
+
+RgbdOdometry::RgbdOdometry() : RgbdOdometry(Options()) {}
+RgbdOdometry::RgbdOdometry(const Options& options)
+    : options_(options), features_(options.features) {
+  if (options_.pyramid_levels < 1 || options_.finest_level < 0 ||
+      options_.finest_level >= options_.pyramid_levels || options_.finest_stride < 1)
+    throw Error("RgbdOdometry: pyramid_levels, finest_level or finest_stride out of range");
+}
+
+OdometryFrame RgbdOdometry::prepare(const Frame& frame, const cv::Mat& person_mask) const {
+  if (frame.rgb.type() != CV_8UC3 || frame.depth.type() != CV_32F)
+    throw Error("RgbdOdometry::prepare: frame " + std::to_string(frame.index) +
+                " needs CV_8UC3 colour and CV_32F depth");
+  if (frame.rgb.size() != frame.depth.size())
+    throw Error("RgbdOdometry::prepare: frame " + std::to_string(frame.index) +
+                ": colour and depth differ in size");
+  if (!person_mask.empty() &&
+      (person_mask.type() != CV_8U || person_mask.size() != frame.depth.size()))
+    throw Error("RgbdOdometry::prepare: frame " + std::to_string(frame.index) +
+                ": person mask must be CV_8U of the frame's size");
+
+  OdometryFrame out;
+  out.timestamp = frame.timestamp;
+  out.index = frame.index;
+  cv::cvtColor(frame.rgb, out.gray, cv::COLOR_BGR2GRAY);
+
+  cv::Mat depth = frame.depth.clone();
+  const float lo = static_cast<float>(options_.min_depth), hi = static_cast<float>(options_.max_depth);
+  for (int v = 0; v < depth.rows; ++v) {
+    float* row = depth.ptr<float>(v);
+    for (int u = 0; u < depth.cols; ++u)
+      if (!(row[u] >= lo && row[u] <= hi)) row[u] = 0.0f;  // also NaN
+  }
+  if (!person_mask.empty()) {
+    cv::Mat grown = person_mask;
+    if (options_.person_mask_dilation > 0) {
+      const int r = options_.person_mask_dilation;
+      cv::dilate(person_mask, grown,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+    }
+    depth.setTo(0.0f, grown > 0);
+  }
+  out.feature_mask = depth > 0.0f;
+  out.valid_depth_pixels = cv::countNonZero(out.feature_mask);
+
+  CameraIntrinsics k0 = frame.intrinsics;
+  k0.width = depth.cols;
+  k0.height = depth.rows;
+  out.levels.resize(options_.pyramid_levels);
+  out.levels[0].intrinsics = k0;
+  out.gray.convertTo(out.levels[0].intensity, CV_32F, 1.0 / 255.0);
+  out.levels[0].depth = depth;
+  for (int l = 1; l < options_.pyramid_levels; ++l) {
+    OdometryLevel& level = out.levels[l];
+    cv::pyrDown(out.levels[l - 1].intensity, level.intensity);
+    level.intrinsics = levelIntrinsics(k0, l);
+    level.depth = downsampleDepth(out.levels[l - 1].depth, level.intensity.rows, level.intensity.cols);
+  }
+  return out;
+}
+
+void RgbdOdometry::makeReference(OdometryFrame* frame) const {
+  if (frame->is_reference) return;
+  for (size_t l = 0; l < frame->levels.size(); ++l) {
+    OdometryLevel& level = frame->levels[l];
+    // Sobel 3x3 / 8: a smoothed central difference, in intensity per pixel.
+    cv::Sobel(level.intensity, level.gradient_x, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(level.intensity, level.gradient_y, CV_32F, 0, 1, 3, 1.0 / 8.0);
+    // Full-resolution depth is noisy pixel to pixel: take normals over two pixels there.
+    level.normals = computeNormals(level.depth, level.intrinsics, l == 0 ? 2 : 1, 0.05);
+  }
+  frame->is_reference = true;
+}
+
+DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const OdometryFrame& current,
+                                    const Eigen::Isometry3d& T_ref_cur_guess) const {
+  if (!reference.is_reference) throw Error("RgbdOdometry::refine: reference frame lacks gradients");
+  if (reference.levels.size() != current.levels.size() ||
+      static_cast<int>(reference.levels.size()) != options_.pyramid_levels)
+    throw Error("RgbdOdometry::refine: frames prepared with other pyramid options");
+
+  DenseAlignment result;
+  Eigen::Isometry3d T = T_ref_cur_guess;
+  const int coarsest = options_.pyramid_levels - 1;
+  const double lambda = options_.photometric_weight;
+  const double inv_sigma_i2 = 1.0 / (options_.intensity_sigma * options_.intensity_sigma);
+  Accumulator last;
+  int last_samples = 0;
+
+  for (int l = coarsest; l >= options_.finest_level; --l) {
+    const OdometryLevel& ref = reference.levels[l];
+    const Samples samples = sampleLevel(current.levels[l], l == 0 ? options_.finest_stride : 1);
+    const int n = static_cast<int>(samples.points.size());
+    const int span = std::max(1, coarsest - options_.finest_level);
+    const double t = coarsest == options_.finest_level ? 1.0 : double(coarsest - l) / span;
+    const int iterations = static_cast<int>(std::lround(
+        options_.iterations_coarse + t * (options_.iterations_fine - options_.iterations_coarse)));
+    const CameraIntrinsics& k = ref.intrinsics;
+    const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+    const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
+    const int W = ref.depth.cols, H = ref.depth.rows;
+
+    for (int it = 0; it < iterations; ++it) {
+      const Eigen::Matrix3f R = T.rotation().cast<float>();
+      const Eigen::Vector3f tr = T.translation().cast<float>();
+      Accumulator total;
+      std::mutex mutex;
+      const int stripes = std::max(1, std::min(8, n / 2000));
+      cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
+        Accumulator acc;
+        Vector6d J;
+        for (int i = range.start; i < range.end; ++i) {
+          const Eigen::Vector3f q = R * samples.points[i] + tr;
+          if (q.z() < options_.min_depth) continue;
+          const float inv_z = 1.0f / q.z();
+          const float u = fx * q.x() * inv_z + cx, v = fy * q.y() * inv_z + cy;
+          if (!(u >= 0.0f && v >= 0.0f && u < W - 1 && v < H - 1)) continue;
+          const int ui = static_cast<int>(u + 0.5f), vi = static_cast<int>(v + 0.5f);
+          const float z_ref = ref.depth.at<float>(vi, ui);
+          if (!(z_ref > 0.0f) || std::fabs(z_ref - q.z()) > options_.max_depth_difference * q.z())
+            continue;
+          const cv::Vec3f& nv = ref.normals.at<cv::Vec3f>(vi, ui);
+          if (nv[0] == 0.0f && nv[1] == 0.0f && nv[2] == 0.0f) continue;
+          ++acc.associated;
+          const Eigen::Vector3f nrm(nv[0], nv[1], nv[2]);
+          const Eigen::Vector3f p_ref((ui - cx) * z_ref / fx, (vi - cy) * z_ref / fy, z_ref);
+
+          // Point-to-plane: r = n . (q - p_ref), J = [n, q x n].
+          const double r_g = nrm.dot(q - p_ref);
+          const double sigma_g = options_.depth_sigma * q.z() * q.z();
+          const double w_g = huberWeight(r_g / sigma_g, options_.huber_k) / (sigma_g * sigma_g);
+          J.head<3>() = nrm.cast<double>();
+          J.tail<3>() = q.cross(nrm).cast<double>();
+          acc.H.noalias() += (w_g * J) * J.transpose();
+          acc.b.noalias() += (w_g * r_g) * J;
+
+          // Photometric: r = I_ref(pi(q)) - I_cur, J = dI/du * du/dq * [I, -[q]x].
+          const double r_i = bilinear(ref.intensity, u, v) - samples.intensity[i];
+          if (lambda > 0.0) {
+            const float gx = bilinear(ref.gradient_x, u, v) * fx * inv_z;
+            const float gy = bilinear(ref.gradient_y, u, v) * fy * inv_z;
+            const Eigen::Vector3f g(gx, gy, -(gx * q.x() + gy * q.y()) * inv_z);
+            const double w_i = lambda * inv_sigma_i2 *
+                               huberWeight(r_i / options_.intensity_sigma, options_.huber_k);
+            J.head<3>() = g.cast<double>();
+            J.tail<3>() = q.cross(g).cast<double>();
+            acc.H.noalias() += (w_i * J) * J.transpose();
+            acc.b.noalias() += (w_i * r_i) * J;
+          }
+          if (std::fabs(r_g) < options_.inlier_distance) {
+            ++acc.inliers;
+            acc.geometric_sq += r_g * r_g;
+            acc.photometric_sq += r_i * r_i;
+          }
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        total.add(acc);
+      }, stripes);
+
+      ++result.iterations;
+      last = total;
+      last_samples = n;
+      if (total.associated < 6) break;
+      const Vector6d delta = total.H.ldlt().solve(-total.b);
+      if (!delta.allFinite()) break;
+      T = applyUpdate(delta, T);
+      if (delta.head<3>().norm() < options_.convergence_step &&
+          delta.tail<3>().norm() < options_.convergence_step)
+        break;
+    }
+  }
+
+  result.T_ref_cur = T;
+  result.sampled_points = last_samples;
+  result.associated_points = last.associated;
+  result.inlier_points = last.inliers;
+  result.inlier_ratio = last_samples > 0 ? double(last.inliers) / last_samples : 0.0;
+  if (last.inliers > 0) {
+    result.geometric_rmse = std::sqrt(last.geometric_sq / last.inliers);
+    result.photometric_rmse = std::sqrt(last.photometric_sq / last.inliers);
+  }
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(last.H, Eigen::EigenvaluesOnly);
+  const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(5);
+  result.hessian_condition = lo > 0.0 ? hi / lo : std::numeric_limits<double>::infinity();
+  const double moved = (T.translation() - T_ref_cur_guess.translation()).norm();
+  result.valid = T.matrix().allFinite() && result.inlier_points >= options_.min_inliers &&
+                 result.inlier_ratio >= options_.min_inlier_ratio &&
+                 result.hessian_condition <= options_.max_condition &&
+                 moved <= options_.max_motion_from_prior;
+  return result;
+}
+
+OdometryResult RgbdOdometry::estimate(OdometryFrame* reference, OdometryFrame* current,
+                                      const Eigen::Isometry3d& T_ref_cur_guess) const {
+  makeReference(reference);
+  OdometryResult result;
+  Eigen::Isometry3d start = T_ref_cur_guess;
+  if (options_.features_every_frame) {
+    features_.extract(reference);
+    features_.extract(current);
+    result.used_features = true;
+    result.sparse = features_.align(*reference, *current);
+    if (result.sparse.valid) start = result.sparse.T_ref_cur;
+  }
+  result.dense = refine(*reference, *current, start);
+  if (!result.dense.valid && !result.used_features) {
+    // The prior was not good enough (fast motion): start again from the features' pose.
+    features_.extract(reference);
+    features_.extract(current);
+    result.used_features = true;
+    result.sparse = features_.align(*reference, *current);
+    if (result.sparse.valid) {
+      const DenseAlignment retry = refine(*reference, *current, result.sparse.T_ref_cur);
+      if (retry.valid || retry.inlier_ratio > result.dense.inlier_ratio) result.dense = retry;
+    }
+  }
+  result.valid = result.dense.valid;
+  result.T_ref_cur = result.dense.T_ref_cur;
+  return result;
+}
+
+OdometryResult RgbdOdometry::estimateWithoutPrior(OdometryFrame* reference,
+                                                  OdometryFrame* current) const {
+  makeReference(reference);
+  features_.extract(reference);
+  features_.extract(current);
+  OdometryResult result;
+  result.used_features = true;
+  result.sparse = features_.align(*reference, *current);
+  if (!result.sparse.valid) return result;
+  result.dense = refine(*reference, *current, result.sparse.T_ref_cur);
+  result.valid = result.dense.valid;
+  result.T_ref_cur = result.dense.T_ref_cur;
+  return result;
+}
+
+}  // namespace pf2
