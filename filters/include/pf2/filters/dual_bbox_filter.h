@@ -1,0 +1,160 @@
+#pragma once
+// Dual-BBox filter: Algorithm 1 of the paper (§III-A) plus three optional additions. It splits a
+// depth image into the static depth D_b (people removed; the tracker and the map use it) and one
+// depth image D_h^t per detected person (the human tracker and the body fitter use those).
+//
+// The paper's rule, per pixel, made independent of the order of the boxes:
+//   - inside person box t with depth in (h_min^t - human_margin, h_max^t + human_margin): person t,
+//     removed from D_b (Algorithm 1, scene separation);
+//   - inside some box but consistent with no box's person: given back to D_b (lines 12-14);
+//   - in the ring between a box and the box enlarged by lambda, depth outside
+//     (b_min - background_margin, b_max + background_margin): removed (lines 10-11);
+//   - everything else: kept.
+// (h_min, h_max) and (b_min, b_max) are principal intervals of depth histograms; see
+// principalInterval() for their exact definition.
+//
+// Additions (each off by default, see Options):
+//   use_mask  — where a backend gives a person mask, the mask dilated by mask_dilation pixels is
+//               removed too and the person's histogram is taken over the mask only;
+//   temporal  — the previous frame's removed pixels, moved into this frame with the camera motion,
+//               guard pixels whose depth agrees with them (boxes that were missed or too small);
+//   geometric — a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
+//               dynamic wherever it has an opinion.
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "pf2/core/camera_intrinsics.h"
+#include "pf2/detection/human_detector.h"
+
+namespace pf2 {
+
+// Principal interval of a depth histogram (metres); valid is false when no depth was counted.
+struct DepthInterval {
+  double min = 0, max = 0;
+  bool valid = false;
+  bool contains(double depth, double margin) const {
+    return valid && depth > min - margin && depth < max + margin;
+  }
+};
+
+struct HistogramOptions {
+  double bin_width = 0.05;      // histogram bin, metres
+  double max_depth = 10.0;      // depths at or beyond this are not counted, metres
+  double window = 0.4;          // width of the depth window searched for the most pixels, metres
+                                // (about a body's depth extent: the whole person fits in it)
+  double grow_fraction = 0.25;  // the window grows by each neighbouring bin holding at least this
+                                // fraction of the window's mean bin count
+  double near_preference = 0.6; // the nearest window holding at least this fraction of the best
+                                // window's count wins (1 = plain maximum): a person occludes what
+                                // is behind them, so their mode is the nearest large one
+};
+
+// Histogram of the valid depths (finite, > 0, < max_depth) of `depth` where `mask` is non-zero (an
+// empty mask counts all pixels) inside `roi`. The principal interval is the window of
+// options.window metres (a whole number of bins) holding the most depths; among windows holding at
+// least near_preference of that count the nearest is taken; it is then grown bin by bin on either
+// side while the neighbouring bin holds >= grow_fraction x the window's mean bin count. The
+// interval spans the outer edges of the chosen bins. Thread safe.
+DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi,
+                                const HistogramOptions& options);
+
+// Source of "this depth is dynamic" evidence, e.g. depth that lies in front of what the static map
+// predicts for this view. The map is built later in the pipeline; it implements this interface.
+class DynamicEvidence {
+ public:
+  virtual ~DynamicEvidence() = default;
+  // CV_8U image of depth's size, 255 where the pixel is dynamic, 0 where static or unknown.
+  // Called once per filtered frame; NOT required to be thread safe.
+  virtual cv::Mat dynamicMask(const cv::Mat& depth) = 0;
+};
+
+// The simplest evidence: a predicted static depth image for the current view (rendered from a map,
+// or the last static depth moved into this view). Pixels measured more than `margin` metres in
+// front of a known prediction are dynamic. NOT thread safe.
+class PredictedDepthEvidence : public DynamicEvidence {
+ public:
+  explicit PredictedDepthEvidence(double margin = 0.15) : margin_(margin) {}
+  // CV_32F metres, 0 = no prediction; must have the size of the depth images filtered next.
+  void setPrediction(const cv::Mat& predicted_depth) { prediction_ = predicted_depth; }
+  cv::Mat dynamicMask(const cv::Mat& depth) override;
+
+ private:
+  double margin_;
+  cv::Mat prediction_;
+};
+
+// Moves a depth image into another view: each pixel with depth is back-projected, transformed by
+// T_dst_src and projected (z-buffered, nearest wins). CV_32F in and out, 0 = none. Thread safe.
+cv::Mat warpDepth(const cv::Mat& depth_src, const CameraIntrinsics& intrinsics,
+                  const Eigen::Isometry3d& T_dst_src);
+
+class DualBBoxFilter {
+ public:
+  struct Options {
+    // --- the paper (Algorithm 1) ---
+    double min_confidence = 0.5;     // boxes with score > this are used
+    double box_scale = 1.2;          // lambda: boxes enlarged about their centre for the ring
+    double background_margin = 0.1;  // metres around (b_min, b_max)
+    double human_margin = 0.2;       // metres around (h_min, h_max)
+    HistogramOptions human_histogram;             // for each box's D_h^t
+    HistogramOptions background_histogram{0.05, 10.0, 0.4, 0.25, 1.0};  // for D_b (plain maximum)
+    // --- beyond the paper ---
+    bool use_mask = false;           // use backend masks where present
+    int mask_dilation = 3;           // pixels the mask is dilated by
+    bool temporal = false;           // guard with last frame's removed pixels
+    int temporal_dilation = 6;       // pixels the moved previous mask is dilated by (person motion)
+    double temporal_margin = 0.25;   // metres a depth may differ from the moved previous one
+    int temporal_max_age = 4;        // frames a pixel may be guarded without any box supporting it
+    bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
+  };
+
+  struct Person {
+    int detection = -1;   // index into the Detections' people
+    PersonBox box;        // the detector's box, clipped to the image
+    DepthInterval interval;  // (h_min, h_max) without margin
+    cv::Mat depth;        // D_h^t: CV_32F image-sized, this person's depth, 0 elsewhere
+    cv::Mat mask;         // CV_8U image-sized, 255 where depth > 0
+  };
+
+  struct Result {
+    cv::Mat static_depth;      // D_b, CV_32F metres, 0 where removed or no measurement
+    cv::Mat removed;           // CV_8U, 255 where a measured depth was removed from D_b
+    std::vector<Person> people;
+    DepthInterval background;  // (b_min, b_max)
+  };
+
+  DualBBoxFilter() : DualBBoxFilter(Options()) {}
+  explicit DualBBoxFilter(const Options& options);
+
+  // Needed by the temporal addition (to move last frame's pixels); ignored otherwise.
+  void setIntrinsics(const CameraIntrinsics& intrinsics) { intrinsics_ = intrinsics; }
+  // Needed by the geometric addition; nullptr switches it off.
+  void setDynamicEvidence(std::shared_ptr<DynamicEvidence> evidence) { evidence_ = std::move(evidence); }
+
+  // Filters one depth image (CV_32F metres; NaN, inf and negatives count as no measurement).
+  // T_cur_prev moves points of the previous filtered frame into this one (identity for a still
+  // camera); only the temporal addition reads it. Throws pf2::Error on a depth of another type.
+  // NOT thread safe (keeps the previous frame for the temporal addition).
+  Result filter(const cv::Mat& depth, const Detections& detections,
+                const Eigen::Isometry3d& T_cur_prev = Eigen::Isometry3d::Identity());
+
+  // Forgets the previous frame (new sequence). NOT thread safe.
+  void reset();
+
+  const Options& options() const { return options_; }
+
+ private:
+  Options options_;
+  CameraIntrinsics intrinsics_;
+  std::shared_ptr<DynamicEvidence> evidence_;
+  cv::Mat previous_depth_;  // depth of last frame's removed pixels, 0 elsewhere
+  cv::Mat previous_age_;    // CV_8U frames since a box last supported each removed pixel
+};
+
+// Integer pixel rectangle of a box scaled by `scale` about its centre, clipped to the image.
+cv::Rect scaledBoxRect(const PersonBox& box, double scale, const cv::Size& image);
+
+}  // namespace pf2

@@ -1,0 +1,340 @@
+#include "pf2/filters/dual_bbox_filter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+namespace {
+
+// Per-pixel decision while filtering.
+constexpr uint8_t kKept = 0;
+constexpr uint8_t kRemoved = 255;  // removed but not a person's (ring outlier, temporal, geometric)
+constexpr int kMaxPeople = 254;    // person t is stored as t + 1
+
+bool validDepth(float d) { return std::isfinite(d) && d > 0.f; }
+
+cv::Mat sanitized(const cv::Mat& depth) {
+  cv::Mat out(depth.size(), CV_32F);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* in = depth.ptr<float>(v);
+    float* o = out.ptr<float>(v);
+    for (int u = 0; u < depth.cols; ++u) o[u] = validDepth(in[u]) ? in[u] : 0.f;
+  }
+  return out;
+}
+
+cv::Mat dilated(const cv::Mat& mask, int radius) {
+  cv::Mat binary = mask > 0, out;
+  if (radius <= 0) return binary;
+  const cv::Mat kernel =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+  cv::dilate(binary, out, kernel);
+  return out;
+}
+
+// Forward-warps depth (and a companion CV_8U image) into another view, nearest point wins.
+void warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
+                       const CameraIntrinsics& K, const Eigen::Isometry3d& T_dst_src,
+                       cv::Mat* depth_dst, cv::Mat* companion_dst) {
+  *depth_dst = cv::Mat::zeros(depth_src.size(), CV_32F);
+  if (companion_dst) *companion_dst = cv::Mat::zeros(depth_src.size(), CV_8U);
+  const Eigen::Matrix3f R = T_dst_src.linear().cast<float>();
+  const Eigen::Vector3f t = T_dst_src.translation().cast<float>();
+  const float fx = K.fx, fy = K.fy, cx = K.cx, cy = K.cy;
+  for (int v = 0; v < depth_src.rows; ++v) {
+    const float* row = depth_src.ptr<float>(v);
+    for (int u = 0; u < depth_src.cols; ++u) {
+      const float z = row[u];
+      if (!(z > 0.f)) continue;
+      const Eigen::Vector3f p_src((u - cx) * z / fx, (v - cy) * z / fy, z);
+      const Eigen::Vector3f p_dst = R * p_src + t;
+      if (!(p_dst.z() > 0.f)) continue;
+      const int ud = static_cast<int>(std::lround(fx * p_dst.x() / p_dst.z() + cx));
+      const int vd = static_cast<int>(std::lround(fy * p_dst.y() / p_dst.z() + cy));
+      if (ud < 0 || vd < 0 || ud >= depth_src.cols || vd >= depth_src.rows) continue;
+      float& target = depth_dst->at<float>(vd, ud);
+      if (target == 0.f || p_dst.z() < target) {
+        target = p_dst.z();
+        if (companion_dst) companion_dst->at<uint8_t>(vd, ud) = companion_src.at<uint8_t>(v, u);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+cv::Rect scaledBoxRect(const PersonBox& box, double scale, const cv::Size& image) {
+  if (box.empty() || !std::isfinite(box.x_ul) || !std::isfinite(box.y_ul) ||
+      !std::isfinite(box.x_lr) || !std::isfinite(box.y_lr)) {
+    return cv::Rect();
+  }
+  const double cu = 0.5 * (box.x_ul + box.x_lr), cv_ = 0.5 * (box.y_ul + box.y_lr);
+  const double hw = 0.5 * scale * box.width(), hh = 0.5 * scale * box.height();
+  auto clampTo = [](double x, int hi) {
+    return static_cast<int>(std::max(0.0, std::min<double>(hi, std::floor(x + 0.5))));
+  };
+  const int u0 = clampTo(cu - hw, image.width), u1 = clampTo(cu + hw, image.width);
+  const int v0 = clampTo(cv_ - hh, image.height), v1 = clampTo(cv_ + hh, image.height);
+  if (u1 <= u0 || v1 <= v0) return cv::Rect();
+  return cv::Rect(u0, v0, u1 - u0, v1 - v0);
+}
+
+DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi,
+                                const HistogramOptions& options) {
+  DepthInterval interval;
+  const cv::Rect r = roi & cv::Rect(0, 0, depth.cols, depth.rows);
+  if (r.empty() || options.bin_width <= 0 || options.max_depth <= 0) return interval;
+  const int bins = static_cast<int>(std::ceil(options.max_depth / options.bin_width));
+  std::vector<int> counts(bins, 0);
+  const float inv_bin = static_cast<float>(1.0 / options.bin_width);
+  const float max_depth = static_cast<float>(options.max_depth);
+  for (int v = r.y; v < r.y + r.height; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const uint8_t* m = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
+    for (int u = r.x; u < r.x + r.width; ++u) {
+      if (m && !m[u]) continue;
+      const float z = d[u];
+      if (!(z > 0.f && z < max_depth)) continue;  // also rejects NaN
+      counts[std::min(bins - 1, static_cast<int>(z * inv_bin))]++;
+    }
+  }
+  const int window = std::max(1, std::min(bins, static_cast<int>(std::lround(options.window / options.bin_width))));
+  std::vector<long> sums(bins - window + 1, 0);
+  long running = 0;
+  for (int b = 0; b < bins; ++b) {
+    running += counts[b];
+    if (b >= window) running -= counts[b - window];
+    if (b >= window - 1) sums[b - window + 1] = running;
+  }
+  const long best = *std::max_element(sums.begin(), sums.end());
+  if (best <= 0) return interval;
+  // The nearest window good enough, moved to the top of the hill it starts on.
+  const double threshold = options.near_preference * static_cast<double>(best);
+  size_t a = 0;
+  while (a < sums.size() && static_cast<double>(sums[a]) < threshold) ++a;
+  size_t chosen = a;
+  for (size_t b = a; b < sums.size() && static_cast<double>(sums[b]) >= threshold; ++b) {
+    if (sums[b] > sums[chosen]) chosen = b;
+  }
+  const double grow = options.grow_fraction * static_cast<double>(sums[chosen]) / window;
+  int lo = static_cast<int>(chosen), hi = static_cast<int>(chosen) + window - 1;
+  while (lo > 0 && counts[lo - 1] > 0 && counts[lo - 1] >= grow) --lo;
+  while (hi < bins - 1 && counts[hi + 1] > 0 && counts[hi + 1] >= grow) ++hi;
+  // Trim empty bins at the window's ends so that the interval hugs the data.
+  while (lo < hi && counts[lo] == 0) ++lo;
+  while (hi > lo && counts[hi] == 0) --hi;
+  interval.min = lo * options.bin_width;
+  interval.max = (hi + 1) * options.bin_width;
+  interval.valid = true;
+  return interval;
+}
+
+cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
+  cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8U);
+  if (prediction_.empty()) return mask;
+  if (prediction_.size() != depth.size() || prediction_.type() != CV_32F) {
+    throw Error("PredictedDepthEvidence: prediction is not a CV_32F image of the depth's size");
+  }
+  const float margin = static_cast<float>(margin_);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const float* p = prediction_.ptr<float>(v);
+    uint8_t* m = mask.ptr<uint8_t>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (p[u] > 0.f && validDepth(d[u]) && d[u] < p[u] - margin) m[u] = 255;
+    }
+  }
+  return mask;
+}
+
+cv::Mat warpDepth(const cv::Mat& depth_src, const CameraIntrinsics& intrinsics,
+                  const Eigen::Isometry3d& T_dst_src) {
+  cv::Mat out;
+  warpWithCompanion(depth_src, cv::Mat(), intrinsics, T_dst_src, &out, nullptr);
+  return out;
+}
+
+DualBBoxFilter::DualBBoxFilter(const Options& options) : options_(options) {}
+
+void DualBBoxFilter::reset() {
+  previous_depth_.release();
+  previous_age_.release();
+}
+
+DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Detections& detections,
+                                              const Eigen::Isometry3d& T_cur_prev) {
+  if (depth_in.empty() || depth_in.type() != CV_32F) {
+    throw Error("DualBBoxFilter: depth must be a non-empty CV_32F image (metres)");
+  }
+  const cv::Mat depth = sanitized(depth_in);
+  const cv::Size size = depth.size();
+  const Options& o = options_;
+
+  // Boxes the paper uses: confident and not empty once clipped to the image.
+  struct Box {
+    int detection;
+    cv::Rect rect, ring;
+    cv::Mat mask;  // dilated backend mask (use_mask), else empty
+  };
+  std::vector<Box> boxes;
+  for (size_t i = 0; i < detections.people.size() && boxes.size() < static_cast<size_t>(kMaxPeople); ++i) {
+    const PersonDetection& p = detections.people[i];
+    if (!(p.score > o.min_confidence)) continue;
+    Box b{static_cast<int>(i), scaledBoxRect(p.box, 1.0, size), scaledBoxRect(p.box, o.box_scale, size), {}};
+    if (o.use_mask && !p.mask.empty() && p.mask.size() == size && p.mask.type() == CV_8U) {
+      b.mask = dilated(p.mask, o.mask_dilation);
+    }
+    if (b.rect.empty() && b.mask.empty()) continue;
+    boxes.push_back(std::move(b));
+  }
+
+  // Scene separation: D_b's histogram is taken outside every box.
+  cv::Mat outside(size, CV_8U, cv::Scalar(255));
+  for (const Box& b : boxes) outside(b.rect).setTo(0);
+  Result result;
+  result.background = principalInterval(depth, outside, cv::Rect(0, 0, size.width, size.height),
+                                        o.background_histogram);
+
+  cv::Mat state = cv::Mat::zeros(size, CV_8U);
+  std::vector<DepthInterval> intervals(boxes.size());
+  const float human_margin = static_cast<float>(o.human_margin);
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    const Box& b = boxes[t];
+    cv::Mat histogram_mask;
+    if (!b.mask.empty()) histogram_mask = detections.people[b.detection].mask;
+    intervals[t] = principalInterval(depth, histogram_mask, b.rect, o.human_histogram);
+    if (!intervals[t].valid && !histogram_mask.empty()) {
+      intervals[t] = principalInterval(depth, cv::Mat(), b.rect, o.human_histogram);
+    }
+    const uint8_t label = static_cast<uint8_t>(t + 1);
+    const DepthInterval& h = intervals[t];
+    for (int v = b.rect.y; v < b.rect.y + b.rect.height; ++v) {
+      const float* d = depth.ptr<float>(v);
+      uint8_t* s = state.ptr<uint8_t>(v);
+      for (int u = b.rect.x; u < b.rect.x + b.rect.width; ++u) {
+        if (s[u] == kKept && d[u] > 0.f && h.contains(d[u], human_margin)) s[u] = label;
+      }
+    }
+    if (!b.mask.empty()) {
+      const cv::Rect bounds = cv::boundingRect(b.mask);
+      for (int v = bounds.y; v < bounds.y + bounds.height; ++v) {
+        const float* d = depth.ptr<float>(v);
+        const uint8_t* m = b.mask.ptr<uint8_t>(v);
+        uint8_t* s = state.ptr<uint8_t>(v);
+        for (int u = bounds.x; u < bounds.x + bounds.width; ++u) {
+          if (m[u] && s[u] == kKept && d[u] > 0.f) s[u] = label;
+        }
+      }
+    }
+  }
+  // The ring between each box and its lambda-enlarged box: depth unlike the background is removed.
+  const float background_margin = static_cast<float>(o.background_margin);
+  for (const Box& b : boxes) {
+    for (int v = b.ring.y; v < b.ring.y + b.ring.height; ++v) {
+      const float* d = depth.ptr<float>(v);
+      const uint8_t* out = outside.ptr<uint8_t>(v);
+      uint8_t* s = state.ptr<uint8_t>(v);
+      for (int u = b.ring.x; u < b.ring.x + b.ring.width; ++u) {
+        if (s[u] == kKept && out[u] && d[u] > 0.f && !result.background.contains(d[u], background_margin)) {
+          s[u] = kRemoved;
+        }
+      }
+    }
+  }
+
+  cv::Mat age;  // frames since a box supported each removed pixel (temporal addition)
+  if (o.temporal) {
+    age = cv::Mat::zeros(size, CV_8U);
+    if (!previous_depth_.empty() && previous_depth_.size() == size) {
+      cv::Mat warped, warped_age;
+      warpWithCompanion(previous_depth_, previous_age_, intrinsics_, T_cur_prev, &warped, &warped_age);
+      const cv::Rect bounds = cv::boundingRect(warped > 0);
+      if (!bounds.empty()) {
+        const int r = std::max(0, o.temporal_dilation);
+        const cv::Rect area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
+                              cv::Rect(0, 0, size.width, size.height);
+        // Nearest and farthest moved depth around each pixel, and the youngest age there.
+        cv::Mat inverse = cv::Mat::zeros(area.size(), CV_32F);
+        cv::Mat age_or_max(area.size(), CV_8U, cv::Scalar(255));
+        for (int v = 0; v < area.height; ++v) {
+          const float* w = warped.ptr<float>(v + area.y) + area.x;
+          const uint8_t* a = warped_age.ptr<uint8_t>(v + area.y) + area.x;
+          float* inv = inverse.ptr<float>(v);
+          uint8_t* am = age_or_max.ptr<uint8_t>(v);
+          for (int u = 0; u < area.width; ++u) {
+            if (w[u] > 0.f) {
+              inv[u] = 1.f / w[u];
+              am[u] = a[u];
+            }
+          }
+        }
+        const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+        cv::Mat nearest_inverse, farthest, youngest;
+        cv::dilate(inverse, nearest_inverse, kernel);
+        cv::dilate(warped(area), farthest, kernel);
+        cv::erode(age_or_max, youngest, kernel);
+        const float margin = static_cast<float>(o.temporal_margin);
+        for (int v = 0; v < area.height; ++v) {
+          const float* d = depth.ptr<float>(v + area.y) + area.x;
+          const float* ni = nearest_inverse.ptr<float>(v);
+          const float* fa = farthest.ptr<float>(v);
+          const uint8_t* yo = youngest.ptr<uint8_t>(v);
+          uint8_t* s = state.ptr<uint8_t>(v + area.y) + area.x;
+          uint8_t* ag = age.ptr<uint8_t>(v + area.y) + area.x;
+          for (int u = 0; u < area.width; ++u) {
+            if (s[u] != kKept || !(d[u] > 0.f) || !(ni[u] > 0.f) || yo[u] >= o.temporal_max_age) continue;
+            if (d[u] > 1.f / ni[u] - margin && d[u] < fa[u] + margin) {
+              s[u] = kRemoved;
+              ag[u] = static_cast<uint8_t>(yo[u] + 1);
+            }
+          }
+        }
+      }
+    }
+  }
+
+  if (o.geometric && evidence_) {
+    const cv::Mat dynamic = evidence_->dynamicMask(depth);
+    if (dynamic.size() != size || dynamic.type() != CV_8U) {
+      throw Error("DualBBoxFilter: DynamicEvidence returned a mask that is not CV_8U of the depth's size");
+    }
+    for (int v = 0; v < size.height; ++v) {
+      const float* d = depth.ptr<float>(v);
+      const uint8_t* m = dynamic.ptr<uint8_t>(v);
+      uint8_t* s = state.ptr<uint8_t>(v);
+      for (int u = 0; u < size.width; ++u) {
+        if (m[u] && s[u] == kKept && d[u] > 0.f) s[u] = kRemoved;
+      }
+    }
+  }
+
+  // Outputs.
+  result.static_depth = depth.clone();
+  result.static_depth.setTo(0, state != kKept);
+  result.removed = (state != kKept) & (depth > 0);
+  result.people.resize(boxes.size());
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    Person& p = result.people[t];
+    p.detection = boxes[t].detection;
+    const cv::Rect& r = boxes[t].rect;
+    p.box = PersonBox{static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(r.x + r.width),
+                      static_cast<float>(r.y + r.height)};
+    p.interval = intervals[t];
+    p.mask = state == static_cast<uint8_t>(t + 1);
+    p.depth = cv::Mat::zeros(size, CV_32F);
+    depth.copyTo(p.depth, p.mask);
+  }
+  if (o.temporal) {
+    previous_depth_ = cv::Mat::zeros(size, CV_32F);
+    depth.copyTo(previous_depth_, result.removed);
+    previous_age_ = age;  // zero (box-supported) except for temporally guarded pixels
+  }
+  return result;
+}
+
+}  // namespace pf2
