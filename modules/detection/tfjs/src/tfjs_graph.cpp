@@ -220,6 +220,9 @@ std::string producerOf(const std::string& input) {
   return name;
 }
 
+// The plain convolution split out of a fused node.
+std::string convNodeName(const std::string& fused_node) { return fused_node + "/_conv"; }
+
 float halfToFloat(uint16_t h) {
   const uint32_t sign = static_cast<uint32_t>(h & 0x8000) << 16;
   uint32_t exponent = (h >> 10) & 0x1F;
@@ -360,7 +363,7 @@ void TfjsGraph::Impl::emitNode(ProtoWriter& graph, const Node& n) const {
   if (ops.size() == 2 && !kActivations.count(ops[1]))
     throw fileError(path, "fused node '" + n.name + "': activation " + ops[1] + " is not supported");
 
-  const std::string conv_name = n.name + "/_conv";
+  const std::string conv_name = convNodeName(n.name);
   const std::string bias_name = ops.size() == 2 ? n.name + "/_bias" : n.name;
   ProtoWriter conv = nodeProto(conv_name, fused_conv ? "Conv2D" : "DepthwiseConv2dNative",
                                {n.inputs[0], n.inputs[1]});
@@ -418,6 +421,16 @@ TfjsGraph::TfjsGraph(TfjsGraph&&) noexcept = default;
 TfjsGraph& TfjsGraph::operator=(TfjsGraph&&) noexcept = default;
 
 bool TfjsGraph::hasNode(const std::string& name) const { return impl_->index.count(name) > 0; }
+
+std::string TfjsGraph::layerName(const std::string& node) const {
+  const auto it = impl_->index.find(node);
+  if (it == impl_->index.end()) throw fileError(impl_->path, "no node '" + node + "'");
+  const Node& n = impl_->nodes[it->second];
+  const bool fused = n.op == "_FusedConv2D" || n.op == "FusedDepthwiseConv2dNative";
+  if (fused && n.attr.contains("fused_ops") && n.attr["fused_ops"]["list"]["s"].size() == 1)
+    return convNodeName(n.name);
+  return n.name;
+}
 
 std::string TfjsGraph::toGraphDef(const Options& options) const {
   const Impl& g = *impl_;

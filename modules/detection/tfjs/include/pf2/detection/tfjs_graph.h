@@ -44,6 +44,10 @@ class TfjsGraph {
   cv::Mat constant(const std::string& name) const;
   // Whether a node of this name exists. Thread safe.
   bool hasNode(const std::string& name) const;
+  // The name of the OpenCV layer that holds a node's output, for Net::forward. Differs from the
+  // node name only for a fused convolution without activation: OpenCV merges conv + BiasAdd into
+  // one layer named after the convolution. Thread safe.
+  std::string layerName(const std::string& node) const;
 
  private:
   struct Impl;

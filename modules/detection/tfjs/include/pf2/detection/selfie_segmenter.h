@@ -1,0 +1,45 @@
+#pragma once
+// "selfie": MediaPipe's selfie segmentation (256x256, MobileNetV3-like) run by OpenCV DNN from
+// its TF.js graph. Gives a person probability per pixel; people are the connected components of
+// the thresholded mask. Limits: one mask for all people, so people who touch or overlap in the
+// image come out as one detection; trained on selfies, so small far people and unusual poses are
+// segmented less well; chairs and bags held close to a person tend to be included.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "pf2/detection/human_detector.h"
+
+namespace pf2 {
+
+class SelfieSegmenter : public HumanDetector {
+ public:
+  struct Options {
+    std::string model_json;           // TF.js model.json; empty = humanModelPath("selfie")
+    float mask_threshold = 0.5f;      // probability above which a pixel belongs to a person
+    double min_area_fraction = 0.01;  // components smaller than this fraction of the image are dropped
+  };
+
+  // Loads the model. Throws pf2::Error naming the file if it is missing or cannot be imported.
+  explicit SelfieSegmenter(const Options& options);
+  ~SelfieSegmenter() override;
+
+  std::string name() const override { return "selfie"; }
+  // One detection per mask component. NOT thread safe (the network keeps buffers).
+  Detections detect(const Frame& frame) override;
+
+  // Person probability of each pixel of a BGR image, CV_32F in [0, 1], same size. NOT thread safe.
+  cv::Mat probability(const cv::Mat& bgr);
+  // Connected components (8-neighbour) of probability > mask_threshold, each above the minimum
+  // area, as detections: box, mask and score = mean probability inside. Thread safe (const).
+  std::vector<PersonDetection> components(const cv::Mat& probability) const;
+
+ private:
+  struct Impl;
+  Options options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pf2

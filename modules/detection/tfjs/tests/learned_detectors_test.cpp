@@ -1,0 +1,142 @@
+// The learned backends on a real TUM fr3/walking_xyz frame with a hand-made reference mask of the
+// two people. Needs the models (scripts/fetch_models.sh) and the optional shared data; skips
+// without either.
+#include <sys/stat.h>
+
+#include <cstdio>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "pf2/core/error.h"
+#include "pf2/detection/learned_models.h"
+#include "pf2/detection/movenet_detector.h"
+#include "pf2/detection/selfie_segmenter.h"
+
+namespace pf2 {
+namespace {
+
+const std::string kFrameDir = std::string(PF2_SHARED_DATA) + "/tum_fr3_walking_xyz_1frame/";
+const std::string kStamp = "1341846313.553992";
+
+bool fileExists(const std::string& path) {
+  struct stat info;
+  return ::stat(path.c_str(), &info) == 0;
+}
+
+struct RealFrame {
+  Frame frame;
+  cv::Mat reference;                 // CV_8U, 255 = person
+  std::vector<cv::Mat> people;       // the reference's connected components (one per person)
+};
+
+// Returns false if the data is absent.
+bool loadRealFrame(RealFrame* out) {
+  const std::string rgb = kFrameDir + kStamp + ".png", mask = kFrameDir + kStamp + "_person_mask.png";
+  if (!fileExists(rgb) || !fileExists(mask)) return false;
+  out->frame.rgb = cv::imread(rgb, cv::IMREAD_COLOR);
+  out->frame.timestamp = std::stod(kStamp);
+  out->reference = cv::imread(mask, cv::IMREAD_GRAYSCALE) > 0;
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(out->reference, labels, stats, centroids, 8, CV_32S);
+  for (int i = 1; i < n; ++i)
+    if (stats.at<int>(i, cv::CC_STAT_AREA) > 2000) out->people.push_back(labels == i);
+  return true;
+}
+
+double iou(const cv::Mat& a, const cv::Mat& b) {
+  const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
+  return uni > 0 ? inter / uni : 0;
+}
+
+cv::Mat boxMask(const PersonBox& box, cv::Size size) {
+  cv::Mat m(size, CV_8U, cv::Scalar(0));
+  cv::rectangle(m, cv::Rect(cv::Point(static_cast<int>(box.x_ul), static_cast<int>(box.y_ul)),
+                            cv::Point(static_cast<int>(box.x_lr), static_cast<int>(box.y_lr))),
+                cv::Scalar(255), cv::FILLED);
+  return m;
+}
+
+TEST(LearnedDetectors, SelfieMasksBothPeopleOnRealFrame) {
+  RealFrame real;
+  if (!humanModelAvailable("selfie")) GTEST_SKIP() << "no model; run scripts/fetch_models.sh";
+  if (!loadRealFrame(&real)) GTEST_SKIP() << "no real frame in " << kFrameDir;
+  ASSERT_EQ(real.people.size(), 2u);
+
+  SelfieSegmenter selfie{SelfieSegmenter::Options()};
+  const Detections d = selfie.detect(real.frame);
+  EXPECT_DOUBLE_EQ(d.timestamp, real.frame.timestamp);
+  ASSERT_EQ(d.people.size(), 2u);
+  cv::Mat all(real.reference.size(), CV_8U, cv::Scalar(0));
+  for (const PersonDetection& p : d.people) {
+    ASSERT_EQ(p.mask.size(), real.reference.size());
+    all |= p.mask;
+    EXPECT_GT(p.score, 0.5f);
+    EXPECT_LE(p.score, 1.0f);
+    EXPECT_FALSE(p.box.empty());
+  }
+  const double union_iou = iou(all, real.reference);
+  std::printf("selfie mask IoU against the reference: %.3f\n", union_iou);
+  RecordProperty("selfie_mask_iou", std::to_string(union_iou));
+  EXPECT_GE(union_iou, 0.7);
+  // Each reference person is matched by one detection's mask, not by both.
+  for (const cv::Mat& ref_person : real.people) {
+    int matched = 0;
+    for (const PersonDetection& p : d.people) matched += iou(p.mask, ref_person) > 0.5;
+    EXPECT_EQ(matched, 1);
+  }
+}
+
+TEST(LearnedDetectors, MoveNetFindsBothPeopleWithKeypoints) {
+  RealFrame real;
+  if (!humanModelAvailable("movenet-multipose")) GTEST_SKIP() << "no model; run scripts/fetch_models.sh";
+  if (!loadRealFrame(&real)) GTEST_SKIP() << "no real frame in " << kFrameDir;
+  ASSERT_EQ(real.people.size(), 2u);
+
+  MoveNetDetector movenet{MoveNetDetector::Options()};
+  const Detections d = movenet.detect(real.frame);
+  ASSERT_EQ(d.people.size(), 2u);
+  cv::Mat near_person;  // keypoints may sit on a silhouette's edge: allow 15 px
+  cv::dilate(real.reference, near_person, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(31, 31)));
+  std::vector<int> matched(real.people.size(), 0);
+  for (const PersonDetection& p : d.people) {
+    ASSERT_EQ(p.keypoints.size(), 17u);
+    EXPECT_TRUE(p.mask.empty());
+    // The box covers most of exactly one reference person.
+    const cv::Mat box = boxMask(p.box, real.reference.size());
+    for (size_t i = 0; i < real.people.size(); ++i) {
+      const double covered = static_cast<double>(cv::countNonZero(box & real.people[i])) / cv::countNonZero(real.people[i]);
+      matched[i] += covered > 0.7;
+    }
+    int confident = 0, on_person = 0;
+    for (const Keypoint2d& k : p.keypoints) {
+      if (k.score < 0.3f) continue;
+      ++confident;
+      const int u = cvRound(k.u), v = cvRound(k.v);
+      on_person += u >= 0 && v >= 0 && u < near_person.cols && v < near_person.rows && near_person.at<uint8_t>(v, u);
+    }
+    EXPECT_GE(confident, 8);
+    EXPECT_EQ(on_person, confident);
+  }
+  EXPECT_EQ(matched, std::vector<int>({1, 1}));
+}
+
+TEST(LearnedDetectors, MissingModelThrowsNamingTheFile) {
+  SelfieSegmenter::Options s;
+  s.model_json = testing::TempDir() + "pf2_no_such_model/selfie.json";
+  try {
+    SelfieSegmenter selfie(s);
+    ADD_FAILURE() << "missing model accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(s.model_json), std::string::npos);
+  }
+  MoveNetDetector::Options m;
+  m.model_json = s.model_json;
+  EXPECT_THROW(MoveNetDetector movenet(m), Error);
+  m.input_width = 250;
+  EXPECT_THROW(MoveNetDetector movenet(m), Error);
+}
+
+}  // namespace
+}  // namespace pf2
