@@ -145,6 +145,8 @@ class DualBBoxFilter {
   void reset();
 
   const Options& options() const { return options_; }
+  // Replaces the options; the temporal state is kept. NOT thread safe.
+  void setOptions(const Options& options) { options_ = options; }
 
  private:
   Options options_;

@@ -1,0 +1,275 @@
+#include "pf2/filters/dual_bbox_filter.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+namespace {
+
+int differing(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat diff = a != b;
+  return cv::countNonZero(diff.reshape(1));
+}
+
+PersonDetection person(float x_ul, float y_ul, float x_lr, float y_lr, float score = 0.9f) {
+  PersonDetection p;
+  p.box = PersonBox{x_ul, y_ul, x_lr, y_lr};
+  p.score = score;
+  return p;
+}
+
+Detections detections(std::vector<PersonDetection> people) {
+  Detections d;
+  d.people = std::move(people);
+  return d;
+}
+
+// A 40x30 scene: wall at 3.02 m, a person (cols 15..24, rows 10..24) at 1.52 m whose box is
+// (14, 9)-(26, 26); the lambda = 1.2 ring is cols 13..26, rows 7..27.
+struct Scene {
+  cv::Mat depth = cv::Mat(30, 40, CV_32F, cv::Scalar(3.02f));
+  Scene() {
+    depth(cv::Rect(15, 10, 10, 15)).setTo(1.52f);
+    depth.at<float>(12, 13) = 1.6f;   // arm outside the box, inside the ring: removed (line 11)
+    depth.at<float>(13, 10) = 1.6f;   // arm outside the ring: kept (the paper cannot see it)
+    depth.at<float>(8, 20) = 3.12f;   // static object in the ring, like the background: kept
+    depth.at<float>(27, 20) = 2.5f;   // ring depth unlike the background: removed (line 11)
+    depth.at<float>(20, 16) = 1.9f;   // in the box, beyond h_max + 0.2: given back (line 13)
+    depth.at<float>(11, 18) = 0.f;    // no measurement stays none
+  }
+};
+
+TEST(PrincipalInterval, NearestLargeWindowGrownByNeighbours) {
+  // 100 px at 1.52 m, 30 px at 1.62 m (neighbour of the window... two bins away), 160 px at 3.02 m.
+  cv::Mat depth(1, 290, CV_32F);
+  for (int i = 0; i < 290; ++i) depth.at<float>(0, i) = i < 100 ? 1.52f : i < 130 ? 1.62f : 3.02f;
+  HistogramOptions o;  // 0.05 m bins, 0.4 m window, grow 0.25, near preference 0.6
+  const DepthInterval near = principalInterval(depth, cv::Mat(), cv::Rect(0, 0, 290, 1), o);
+  ASSERT_TRUE(near.valid);
+  // 130 >= 0.6 x 160: the person's window wins over the wall; it spans bins 30 and 32.
+  EXPECT_NEAR(near.min, 1.50, 1e-9);
+  EXPECT_NEAR(near.max, 1.65, 1e-9);
+  o.near_preference = 1.0;  // plain maximum: the wall
+  const DepthInterval far = principalInterval(depth, cv::Mat(), cv::Rect(0, 0, 290, 1), o);
+  EXPECT_NEAR(far.min, 3.00, 1e-9);
+  EXPECT_NEAR(far.max, 3.05, 1e-9);
+  // A window of one bin grows into a neighbour holding >= 25 % of it, not into one holding less.
+  o.window = 0.05;
+  cv::Mat two(1, 10, CV_32F, cv::Scalar(2.02f));
+  two.at<float>(0, 0) = 2.07f;  // 1 of 9 = 11 %: not grown
+  two.at<float>(0, 1) = 1.97f;
+  two.at<float>(0, 2) = 1.97f;
+  two.at<float>(0, 3) = 1.97f;  // 3 of 6... counts: 2.0x bin 6 px, 1.9x bin 3 px = 50 %: grown
+  const DepthInterval grown = principalInterval(two, cv::Mat(), cv::Rect(0, 0, 10, 1), o);
+  EXPECT_NEAR(grown.min, 1.95, 1e-9);
+  EXPECT_NEAR(grown.max, 2.05, 1e-9);
+}
+
+TEST(PrincipalInterval, MaskRoiAndInvalidDepths) {
+  cv::Mat depth(2, 4, CV_32F, cv::Scalar(1.02f));
+  depth.at<float>(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  depth.at<float>(0, 1) = 12.f;  // beyond max_depth
+  depth.at<float>(1, 3) = 4.02f;
+  cv::Mat mask = cv::Mat::zeros(2, 4, CV_8U);
+  mask.at<uint8_t>(1, 3) = 1;
+  HistogramOptions o;
+  const DepthInterval masked = principalInterval(depth, mask, cv::Rect(0, 0, 4, 2), o);
+  ASSERT_TRUE(masked.valid);
+  EXPECT_NEAR(masked.min, 4.0, 1e-9);
+  EXPECT_FALSE(principalInterval(depth, cv::Mat(), cv::Rect(0, 0, 2, 1), o).valid);  // NaN + 12 m only
+  EXPECT_FALSE(principalInterval(depth, cv::Mat(), cv::Rect(10, 10, 3, 3), o).valid);  // outside
+}
+
+TEST(DualBBoxFilter, Algorithm1OnHandMadeScene) {
+  const Scene scene;
+  DualBBoxFilter filter;
+  const auto result = filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
+
+  cv::Mat expected_static = scene.depth.clone();
+  cv::Mat expected_person = cv::Mat::zeros(30, 40, CV_32F);
+  scene.depth(cv::Rect(15, 10, 10, 15)).copyTo(expected_person(cv::Rect(15, 10, 10, 15)));
+  expected_person.at<float>(20, 16) = 0.f;  // given back to the background
+  expected_static.setTo(0.f, expected_person > 0);
+  expected_static.at<float>(12, 13) = 0.f;
+  expected_static.at<float>(27, 20) = 0.f;
+
+  ASSERT_EQ(result.people.size(), 1u);
+  EXPECT_EQ(differing(result.static_depth, expected_static), 0);
+  EXPECT_EQ(differing(result.people[0].depth, expected_person), 0);
+  EXPECT_EQ(differing(result.people[0].mask, expected_person > 0), 0);
+  cv::Mat expected_removed = (scene.depth > 0) & (expected_static == 0);
+  EXPECT_EQ(differing(result.removed, expected_removed), 0);
+  EXPECT_NEAR(result.people[0].interval.min, 1.50, 1e-9);
+  EXPECT_NEAR(result.people[0].interval.max, 1.55, 1e-9);
+  EXPECT_NEAR(result.background.min, 3.00, 1e-9);
+  EXPECT_NEAR(result.background.max, 3.15, 1e-9);
+  EXPECT_EQ(result.static_depth.at<float>(13, 10), 1.6f);  // outside the ring
+  EXPECT_EQ(result.static_depth.at<float>(8, 20), 3.12f);
+  EXPECT_EQ(result.static_depth.at<float>(20, 16), 1.9f);
+}
+
+TEST(DualBBoxFilter, BoxesAtOrBelowConfidenceAreIgnored) {
+  const Scene scene;
+  DualBBoxFilter filter;
+  const auto result = filter.filter(scene.depth, detections({person(14, 9, 26, 26, 0.5f)}));
+  EXPECT_TRUE(result.people.empty());
+  EXPECT_EQ(differing(result.static_depth, scene.depth), 0);
+}
+
+TEST(DualBBoxFilter, LambdaOneHasNoRing) {
+  const Scene scene;
+  DualBBoxFilter::Options o;
+  o.box_scale = 1.0;
+  DualBBoxFilter filter(o);
+  const auto result = filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
+  EXPECT_EQ(result.static_depth.at<float>(12, 13), 1.6f);
+  EXPECT_EQ(result.static_depth.at<float>(27, 20), 2.5f);
+  EXPECT_EQ(result.static_depth.at<float>(15, 18), 0.f);
+}
+
+TEST(DualBBoxFilter, OverlappingPeopleDoNotGiveEachOtherBack) {
+  // Two people at 1.52 m and 2.52 m whose boxes overlap: each box holds part of the other person;
+  // the literal loop of Algorithm 1 would give the first person's pixels back in the second box.
+  cv::Mat depth(30, 40, CV_32F, cv::Scalar(4.02f));
+  depth(cv::Rect(5, 5, 10, 20)).setTo(1.52f);
+  depth(cv::Rect(15, 5, 10, 20)).setTo(2.52f);
+  DualBBoxFilter filter;
+  const auto result = filter.filter(depth, detections({person(4, 4, 16, 26), person(12, 4, 26, 26)}));
+  ASSERT_EQ(result.people.size(), 2u);
+  EXPECT_EQ(cv::countNonZero(result.static_depth(cv::Rect(5, 5, 20, 20))), 0);
+  EXPECT_EQ(cv::countNonZero(result.people[0].mask), 200);
+  EXPECT_EQ(cv::countNonZero(result.people[1].mask), 200);
+}
+
+TEST(DualBBoxFilter, DegenerateInputs) {
+  const Scene scene;
+  DualBBoxFilter filter;
+  // Empty box (zero width) and a box with corners swapped: no person, nothing changes.
+  auto r = filter.filter(scene.depth, detections({person(20, 10, 20, 25), person(25, 25, 15, 10)}));
+  EXPECT_TRUE(r.people.empty());
+  EXPECT_EQ(differing(r.static_depth, scene.depth), 0);
+  // Entirely outside the image.
+  r = filter.filter(scene.depth, detections({person(100, 100, 120, 140)}));
+  EXPECT_TRUE(r.people.empty());
+  // Partly outside: clipped; the person's pixels inside the image are removed.
+  cv::Mat edge(30, 40, CV_32F, cv::Scalar(3.02f));
+  edge(cv::Rect(30, 10, 10, 15)).setTo(1.52f);
+  r = filter.filter(edge, detections({person(29, 9, 60, 26)}));
+  ASSERT_EQ(r.people.size(), 1u);
+  EXPECT_EQ(r.people[0].box.x_lr, 40.f);
+  EXPECT_EQ(cv::countNonZero(r.people[0].mask), 150);
+  EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(30, 10, 10, 15))), 0);
+  // One-pixel box: that pixel is the person.
+  r = filter.filter(scene.depth, detections({person(20, 15, 21, 16)}));
+  ASSERT_EQ(r.people.size(), 1u);
+  EXPECT_EQ(cv::countNonZero(r.people[0].mask), 1);
+  EXPECT_EQ(r.static_depth.at<float>(15, 20), 0.f);
+  // All-zero depth: nothing to keep, nothing to remove, intervals invalid.
+  r = filter.filter(cv::Mat::zeros(30, 40, CV_32F), detections({person(14, 9, 26, 26)}));
+  EXPECT_EQ(cv::countNonZero(r.static_depth), 0);
+  EXPECT_EQ(cv::countNonZero(r.removed), 0);
+  EXPECT_FALSE(r.background.valid);
+  // NaN and negative depths are no measurement: zero in the output, never removed.
+  cv::Mat nan = scene.depth.clone();
+  nan.at<float>(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  nan.at<float>(15, 18) = std::numeric_limits<float>::quiet_NaN();
+  nan.at<float>(1, 1) = -1.f;
+  r = filter.filter(nan, detections({person(14, 9, 26, 26)}));
+  EXPECT_EQ(r.static_depth.at<float>(0, 0), 0.f);
+  EXPECT_EQ(r.static_depth.at<float>(1, 1), 0.f);
+  EXPECT_EQ(r.removed.at<uint8_t>(0, 0), 0);
+  EXPECT_EQ(r.removed.at<uint8_t>(15, 18), 0);
+  EXPECT_EQ(cv::countNonZero(r.people[0].mask), 147);  // 150 - 1.9 m - no depth - NaN
+  // Wrong image type.
+  EXPECT_THROW(filter.filter(cv::Mat::zeros(30, 40, CV_16U), detections({})), Error);
+  EXPECT_THROW(filter.filter(cv::Mat(), detections({})), Error);
+}
+
+TEST(DualBBoxFilter, MaskAdditionRemovesMaskedPixelsOutsideTheBox) {
+  const Scene scene;
+  PersonDetection p = person(14, 9, 26, 26);
+  p.mask = cv::Mat::zeros(30, 40, CV_8U);
+  p.mask(cv::Rect(15, 10, 10, 15)).setTo(255);
+  p.mask.at<uint8_t>(13, 11) = 255;  // the arm outside the ring, as a segmenter would see it
+  DualBBoxFilter::Options o;
+  DualBBoxFilter plain(o);
+  EXPECT_EQ(plain.filter(scene.depth, detections({p})).static_depth.at<float>(13, 10), 1.6f);
+  o.use_mask = true;
+  o.mask_dilation = 1;
+  DualBBoxFilter with_mask(o);
+  const auto r = with_mask.filter(scene.depth, detections({p}));
+  EXPECT_EQ(r.static_depth.at<float>(13, 10), 0.f);  // within one pixel of the mask
+  EXPECT_EQ(r.people[0].mask.at<uint8_t>(13, 10), 255);
+  EXPECT_EQ(r.static_depth.at<float>(13, 8), 3.02f);  // two pixels away: kept
+  // The masked histogram excludes the 1.9 m pixel's bin from consideration; the interval is the body's.
+  EXPECT_NEAR(r.people[0].interval.min, 1.50, 1e-9);
+}
+
+TEST(DualBBoxFilter, TemporalAdditionGuardsAMissedPersonForMaxAgeFrames) {
+  const Scene scene;
+  DualBBoxFilter::Options o;
+  o.temporal = true;
+  o.temporal_dilation = 1;
+  o.temporal_max_age = 2;
+  DualBBoxFilter filter(o);
+  filter.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
+  filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
+  // Next frames: the detector misses the person; the still camera sees them where they were.
+  for (int frame = 1; frame <= 2; ++frame) {
+    const auto r = filter.filter(scene.depth, detections({}));
+    // Only the 1.9 m pixel, given back in the first frame and unlike its neighbours, remains.
+    EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(15, 10, 10, 15))), 1) << "frame " << frame;
+    EXPECT_EQ(r.static_depth.at<float>(20, 16), 1.9f);
+    EXPECT_EQ(r.static_depth.at<float>(5, 5), 3.02f);  // far from the person: kept
+    EXPECT_EQ(r.static_depth.at<float>(16, 26), 3.02f); // next to the person but at the wall: kept
+  }
+  const auto old = filter.filter(scene.depth, detections({}));  // older than max age: let go
+  EXPECT_EQ(differing(old.static_depth, scene.depth), 0);
+  // Camera motion moves the guard: the camera moved 0.1 m to the left (scene moves right in
+  // the image by fx * 0.1 / 1.52 = ~2 px for the person).
+  DualBBoxFilter moving(o);
+  moving.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
+  moving.filter(scene.depth, detections({person(14, 9, 26, 26)}));
+  Eigen::Isometry3d T_cur_prev = Eigen::Isometry3d::Identity();
+  T_cur_prev.translation() = Eigen::Vector3d(0.1, 0, 0);
+  cv::Mat shifted(30, 40, CV_32F, cv::Scalar(3.02f));
+  shifted(cv::Rect(17, 10, 10, 15)).setTo(1.52f);
+  const auto r = moving.filter(shifted, detections({}), T_cur_prev);
+  EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(17, 10, 10, 15))), 0);
+}
+
+TEST(DualBBoxFilter, GeometricAdditionUsesTheEvidence) {
+  const Scene scene;
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(cv::Mat(30, 40, CV_32F, cv::Scalar(3.02f)));  // the wall everywhere
+  DualBBoxFilter::Options o;
+  o.geometric = true;
+  DualBBoxFilter filter(o);
+  filter.setDynamicEvidence(evidence);
+  const auto r = filter.filter(scene.depth, detections({}));  // no box at all
+  // Everything in front of the wall by > 0.15 m is dynamic: the person, both arms, the 2.5 m and
+  // the 1.9 m pixels; the 3.12 m object is behind the prediction and stays.
+  cv::Mat expected = scene.depth.clone();
+  expected.setTo(0.f, scene.depth < 3.02f - 0.15f);
+  EXPECT_EQ(differing(r.static_depth, expected), 0);
+  EXPECT_EQ(r.static_depth.at<float>(8, 20), 3.12f);
+}
+
+TEST(WarpDepth, IdentityAndTranslation) {
+  cv::Mat depth = cv::Mat::zeros(30, 40, CV_32F);
+  depth.at<float>(15, 20) = 2.f;
+  const CameraIntrinsics K{30, 30, 20, 15, 40, 30};
+  EXPECT_EQ(differing(warpDepth(depth, K, Eigen::Isometry3d::Identity()), depth), 0);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.2, 0, 1.0);  // point (0, 0, 2) -> (0.2, 0, 3): u = 20 + 2
+  const cv::Mat moved = warpDepth(depth, K, T);
+  EXPECT_FLOAT_EQ(moved.at<float>(15, 22), 3.f);
+  EXPECT_EQ(cv::countNonZero(moved), 1);
+}
+
+}  // namespace
+}  // namespace pf2
