@@ -1,0 +1,38 @@
+#pragma once
+// The static map's surface as a plain triangle mesh, and its files: PLY (binary, vertex colours)
+// written atomically, read back through PCL; conversion to pcl::PolygonMesh for PCL users.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace pcl {
+struct PolygonMesh;
+}
+
+namespace pf2 {
+
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> vertices;             // world frame, metres
+  std::vector<std::array<std::uint8_t, 3>> colors;   // per vertex RGB, empty or one per vertex
+  std::vector<Eigen::Vector3i> triangles;            // counter-clockwise seen from free space
+
+  bool empty() const { return triangles.empty(); }
+  // Total triangle area, square metres.
+  double area() const;
+};
+
+// Binary little-endian PLY with float x y z, uchar red green blue (when colours exist) and
+// triangle faces. Written to a temporary name and renamed. Throws pf2::Error naming the path.
+void saveMeshPly(const TriangleMesh& mesh, const std::string& path);
+// Reads any PLY triangle mesh PCL reads (ASCII or binary; polygons are fanned into triangles).
+// Throws pf2::Error naming the path when it cannot be read or holds no vertices.
+TriangleMesh loadMeshPly(const std::string& path);
+
+// Conversion to and from PCL (point type pcl::PointXYZRGB when coloured, else pcl::PointXYZ).
+void toPolygonMesh(const TriangleMesh& mesh, pcl::PolygonMesh* out);
+TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& mesh);
+
+}  // namespace pf2

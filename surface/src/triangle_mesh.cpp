@@ -1,0 +1,126 @@
+#include "pf2/surface/triangle_mesh.h"
+
+#include <pcl/PolygonMesh.h>
+#include <pcl/conversions.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "pf2/core/atomic_file.h"
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+double TriangleMesh::area() const {
+  double total = 0.0;
+  for (const Eigen::Vector3i& t : triangles) {
+    const Eigen::Vector3d a = vertices[t[0]].cast<double>(), b = vertices[t[1]].cast<double>(),
+                          c = vertices[t[2]].cast<double>();
+    total += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return total;
+}
+
+void saveMeshPly(const TriangleMesh& mesh, const std::string& path) {
+  const bool coloured = !mesh.colors.empty();
+  if (coloured && mesh.colors.size() != mesh.vertices.size()) {
+    throw fileError(path, "mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
+                              std::to_string(mesh.vertices.size()) + " vertices");
+  }
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "ply\nformat binary_little_endian 1.0\ncomment PoseFusion2 static map, metres, world frame\n"
+        << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (coloured) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    out << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    // Little-endian host (x86-64, arm64): the in-memory bytes are the file's bytes.
+    std::vector<char> buffer;
+    const std::size_t vertex_bytes = 12 + (coloured ? 3 : 0);
+    buffer.resize(mesh.vertices.size() * vertex_bytes);
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      char* p = buffer.data() + i * vertex_bytes;
+      std::memcpy(p, mesh.vertices[i].data(), 12);
+      if (coloured) std::memcpy(p + 12, mesh.colors[i].data(), 3);
+    }
+    out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    buffer.resize(mesh.triangles.size() * 13);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      char* p = buffer.data() + i * 13;
+      p[0] = 3;
+      std::memcpy(p + 1, mesh.triangles[i].data(), 12);
+    }
+    out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  });
+}
+
+TriangleMesh loadMeshPly(const std::string& path) {
+  {
+    std::ifstream probe(path);
+    if (!probe) throw fileError(path, "cannot open for reading");
+  }
+  pcl::PolygonMesh polygon_mesh;
+  if (pcl::io::loadPLYFile(path, polygon_mesh) < 0) throw fileError(path, "not a readable PLY mesh");
+  TriangleMesh mesh = fromPolygonMesh(polygon_mesh);
+  if (mesh.vertices.empty()) throw fileError(path, "PLY holds no vertices");
+  return mesh;
+}
+
+void toPolygonMesh(const TriangleMesh& mesh, pcl::PolygonMesh* out) {
+  if (!mesh.colors.empty()) {
+    pcl::PointCloud<pcl::PointXYZRGB> cloud;
+    cloud.resize(mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      pcl::PointXYZRGB& p = cloud[i];
+      p.x = mesh.vertices[i].x();
+      p.y = mesh.vertices[i].y();
+      p.z = mesh.vertices[i].z();
+      p.r = mesh.colors[i][0];
+      p.g = mesh.colors[i][1];
+      p.b = mesh.colors[i][2];
+    }
+    pcl::toPCLPointCloud2(cloud, out->cloud);
+  } else {
+    pcl::PointCloud<pcl::PointXYZ> cloud;
+    cloud.resize(mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      cloud[i].getVector3fMap() = mesh.vertices[i];
+    }
+    pcl::toPCLPointCloud2(cloud, out->cloud);
+  }
+  out->polygons.resize(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Eigen::Vector3i& t = mesh.triangles[i];
+    out->polygons[i].vertices.assign(t.data(), t.data() + 3);
+  }
+}
+
+TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& polygon_mesh) {
+  TriangleMesh mesh;
+  bool has_colour = false;
+  for (const auto& field : polygon_mesh.cloud.fields) has_colour = has_colour || field.name == "rgb" || field.name == "rgba";
+  if (has_colour) {
+    pcl::PointCloud<pcl::PointXYZRGB> cloud;
+    pcl::fromPCLPointCloud2(polygon_mesh.cloud, cloud);
+    for (const auto& p : cloud) {
+      mesh.vertices.emplace_back(p.x, p.y, p.z);
+      mesh.colors.push_back({p.r, p.g, p.b});
+    }
+  } else {
+    pcl::PointCloud<pcl::PointXYZ> cloud;
+    pcl::fromPCLPointCloud2(polygon_mesh.cloud, cloud);
+    for (const auto& p : cloud) mesh.vertices.emplace_back(p.x, p.y, p.z);
+  }
+  const int n = static_cast<int>(mesh.vertices.size());
+  for (const auto& polygon : polygon_mesh.polygons) {
+    const auto& v = polygon.vertices;
+    for (std::size_t k = 1; k + 1 < v.size(); ++k) {
+      const Eigen::Vector3i t(static_cast<int>(v[0]), static_cast<int>(v[k]), static_cast<int>(v[k + 1]));
+      if ((t.array() >= 0).all() && (t.array() < n).all()) mesh.triangles.push_back(t);
+    }
+  }
+  return mesh;
+}
+
+}  // namespace pf2
