@@ -8,6 +8,7 @@
 // ---- Learned (TF.js) backends: headers. Owned by the "learned" engineer (modules/detection/tfjs);
 // ---- PF2_HAVE_TFJS is defined by modules/detection/CMakeLists.txt when target pf2_tfjs exists.
 #ifdef PF2_HAVE_TFJS
+#include "pf2/detection/tfjs_factory.h"
 #endif
 // ---- end of learned backend headers.
 
@@ -27,6 +28,9 @@ const std::map<std::string, Factory>& registry() {
 // ----   {"selfie", [](const DetectorOptions& o) { return createSelfieDetector(o.extra); }},
 // ---- their options come from DetectorOptions::extra ("key" -> "value").
 #ifdef PF2_HAVE_TFJS
+      {"selfie", [](const DetectorOptions& o) { return createSelfieDetector(o.extra); }},
+      {"movenet", [](const DetectorOptions& o) { return createMoveNetDetector(o.extra); }},
+      {"learned", [](const DetectorOptions& o) { return createLearnedDetector(o.extra); }},
 #endif
 // ---- end of learned backend registration.
   };

@@ -3,6 +3,7 @@
 // without either.
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include <gtest/gtest.h>
@@ -10,7 +11,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/detection/detector_factory.h"
 #include "pf2/detection/learned_models.h"
+#include "pf2/detection/learned_person_detector.h"
 #include "pf2/detection/movenet_detector.h"
 #include "pf2/detection/selfie_segmenter.h"
 
@@ -120,6 +123,72 @@ TEST(LearnedDetectors, MoveNetFindsBothPeopleWithKeypoints) {
     EXPECT_EQ(on_person, confident);
   }
   EXPECT_EQ(matched, std::vector<int>({1, 1}));
+}
+
+TEST(LearnedDetectors, CombinedGivesEachPersonMaskAndKeypointsAndCarriesThem) {
+  RealFrame real;
+  if (!humanModelAvailable("selfie") || !humanModelAvailable("movenet-multipose"))
+    GTEST_SKIP() << "no models; run scripts/fetch_models.sh";
+  if (!loadRealFrame(&real)) GTEST_SKIP() << "no real frame in " << kFrameDir;
+  ASSERT_EQ(real.people.size(), 2u);
+
+  LearnedPersonDetector::Options options;
+  options.pose_every = 2;
+  LearnedPersonDetector learned(options);
+  const Detections first = learned.detect(real.frame);
+  ASSERT_EQ(first.people.size(), 2u);
+  cv::Mat all(real.reference.size(), CV_8U, cv::Scalar(0));
+  for (const PersonDetection& p : first.people) {
+    ASSERT_EQ(p.keypoints.size(), 17u);
+    ASSERT_FALSE(p.mask.empty());
+    all |= p.mask;
+    int matched = 0;
+    for (const cv::Mat& ref_person : real.people) matched += iou(p.mask, ref_person) > 0.5;
+    EXPECT_EQ(matched, 1);
+  }
+  const double union_iou = iou(all, real.reference);
+  std::printf("learned mask IoU against the reference: %.3f\n", union_iou);
+  EXPECT_GE(union_iou, 0.7);
+
+  // Second frame: the image moved 16 px left; MoveNet does not run, the poses follow the masks.
+  const int shift = 16;
+  Frame moved = real.frame;
+  const cv::Mat T = (cv::Mat_<double>(2, 3) << 1, 0, -shift, 0, 1, 0);
+  cv::warpAffine(real.frame.rgb, moved.rgb, T, real.frame.rgb.size(), cv::INTER_NEAREST, cv::BORDER_CONSTANT);
+  const Detections second = learned.detect(moved);
+  ASSERT_EQ(second.people.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    ASSERT_EQ(second.people[i].keypoints.size(), 17u);
+    const float du = second.people[i].keypoints[0].u - first.people[i].keypoints[0].u;
+    const float dv = second.people[i].keypoints[0].v - first.people[i].keypoints[0].v;
+    std::printf("person %zu carried by (%.1f, %.1f) px\n", i, du, dv);
+    EXPECT_NEAR(du, -shift, 5.0);
+    EXPECT_NEAR(dv, 0.0, 5.0);
+  }
+}
+
+TEST(LearnedDetectors, FactoryKnowsTheLearnedBackendsAndChecksTheirOptions) {
+  const std::vector<std::string> names = humanDetectorNames();
+  for (const char* name : {"selfie", "movenet", "learned"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+
+  DetectorOptions options;
+  options.extra["selfie.model"] = testing::TempDir() + "pf2_no_such_model/selfie.json";
+  try {
+    createHumanDetector("selfie", options);
+    ADD_FAILURE() << "missing model accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(options.extra["selfie.model"]), std::string::npos) << e.what();
+  }
+  DetectorOptions typo;
+  typo.extra["selfie.treshold"] = "0.4";
+  EXPECT_THROW(createHumanDetector("selfie", typo), Error);
+  DetectorOptions not_a_number;
+  not_a_number.extra["movenet.width"] = "256px";
+  EXPECT_THROW(createHumanDetector("movenet", not_a_number), Error);
+  DetectorOptions bad_rate;
+  bad_rate.extra["learned.pose_every"] = "0";
+  EXPECT_THROW(createHumanDetector("learned", bad_rate), Error);
 }
 
 TEST(LearnedDetectors, MissingModelThrowsNamingTheFile) {

@@ -1,0 +1,53 @@
+#pragma once
+// "learned": selfie masks on every frame, MoveNet MultiPose boxes and keypoints every few frames,
+// carried in between by the motion of the mask (the shift aligning the previous mask in a person's
+// box with the current one). Each mask component is given to the people whose
+// (enlarged) MoveNet box it touches; a component touched by several people is split pixel by
+// pixel to the person with the nearest confident keypoint, which separates touching people better
+// than the mask alone. Components no pose explains stay as people without keypoints; poses with
+// no mask under them stay as boxes without a mask. A person's score is the mean mask probability
+// when it has a mask, MoveNet's score otherwise.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "pf2/detection/human_detector.h"
+#include "pf2/detection/movenet_detector.h"
+#include "pf2/detection/selfie_segmenter.h"
+
+namespace pf2 {
+
+class LearnedPersonDetector : public HumanDetector {
+ public:
+  struct Options {
+    SelfieSegmenter::Options selfie;
+    MoveNetDetector::Options movenet;
+    int pose_every = 3;                 // frames per MoveNet run (1 = every frame)
+    float box_margin = 0.1f;            // fraction of a pose box's size added on each side when claiming mask
+    float keypoint_min_score = 0.3f;    // keypoints used to split a shared mask component
+    float max_motion = 32.f;            // largest image motion of a person between frames, pixels
+  };
+
+  // Loads both models. Throws pf2::Error naming a missing/unreadable model, or if pose_every < 1.
+  explicit LearnedPersonDetector(const Options& options);
+  ~LearnedPersonDetector() override;
+
+  std::string name() const override { return "learned"; }
+  // NOT thread safe (networks and the pose history between frames).
+  Detections detect(const Frame& frame) override;
+
+ private:
+  void carryPoses(const cv::Mat& mask);
+  cv::Rect claimRect(const PersonDetection& pose, cv::Size image) const;
+
+  Options options_;
+  std::unique_ptr<SelfieSegmenter> selfie_;
+  std::unique_ptr<MoveNetDetector> movenet_;
+  std::vector<PersonDetection> poses_;  // latest MoveNet people, moved with the mask since
+  cv::Mat previous_mask_;               // selfie mask of the previous frame (CV_8U)
+  long frames_ = 0;
+};
+
+}  // namespace pf2

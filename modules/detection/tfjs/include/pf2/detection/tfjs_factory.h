@@ -1,0 +1,27 @@
+#pragma once
+// Builders the detector factory (modules/detection/src/detector_factory.cpp) calls for the learned
+// backends. Options come as "key" -> "value" text (DetectorOptions::extra); keys, all optional:
+//   selfie.model      path of selfie's model.json (default: humanModelPath("selfie"))
+//   selfie.threshold  mask probability threshold (0.5)
+//   selfie.min_area   smallest component, fraction of the image (0.01)
+//   movenet.model     path of MoveNet MultiPose's model.json (default: humanModelPath("movenet-multipose"))
+//   movenet.width, movenet.height   network input in pixels, multiples of 32 (256, 192)
+//   movenet.min_score smallest person score kept (0.2)
+//   learned.pose_every  frames per MoveNet run in "learned" (3)
+// Keys of other prefixes are ignored (they belong to other backends); an unknown key with one of
+// these prefixes or a value that does not parse throws pf2::Error naming the key.
+#include <map>
+#include <memory>
+#include <string>
+
+#include "pf2/detection/human_detector.h"
+
+namespace pf2 {
+
+using DetectorExtraOptions = std::map<std::string, std::string>;
+
+std::unique_ptr<HumanDetector> createSelfieDetector(const DetectorExtraOptions& extra);
+std::unique_ptr<HumanDetector> createMoveNetDetector(const DetectorExtraOptions& extra);
+std::unique_ptr<HumanDetector> createLearnedDetector(const DetectorExtraOptions& extra);
+
+}  // namespace pf2
