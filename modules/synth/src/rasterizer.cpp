@@ -265,18 +265,27 @@ double Rasterizer::unboundedCoverage(const RenderMesh& mesh, const CameraIntrins
   const int y_lo = -margin * K.height, y_hi = (margin + 1) * K.height - 1;
   const std::vector<ScreenTriangle> screen =
       project({&mesh}, K, T_w_c, options_.near_plane, x_lo, y_lo, x_hi, y_hi);
-  const int cols = (x_hi - x_lo) / stride + 1, rows = (y_hi - y_lo) / stride + 1;
+  if (screen.empty()) return 0.0;
+  // Only the sample grid under the mesh's bounding box is allocated.
+  int box_x0 = x_hi, box_x1 = x_lo, box_y0 = y_hi, box_y1 = y_lo;
+  for (const ScreenTriangle& t : screen) {
+    box_x0 = std::min(box_x0, t.min_x);
+    box_x1 = std::max(box_x1, t.max_x);
+    box_y0 = std::min(box_y0, t.min_y);
+    box_y1 = std::max(box_y1, t.max_y);
+  }
+  const int cols = (box_x1 - box_x0) / stride + 1, rows = (box_y1 - box_y0) / stride + 1;
   std::vector<std::uint8_t> covered(static_cast<size_t>(cols) * rows, 0);
   for (const ScreenTriangle& t : screen) {
-    // Sample positions x_lo + stride * i inside the triangle's box.
-    const int i0 = (t.min_x - x_lo + stride - 1) / stride, i1 = (t.max_x - x_lo) / stride;
-    const int j0 = (t.min_y - y_lo + stride - 1) / stride, j1 = (t.max_y - y_lo) / stride;
+    // Sample positions box_x0 + stride * i inside the triangle's box.
+    const int i0 = (t.min_x - box_x0 + stride - 1) / stride, i1 = (t.max_x - box_x0) / stride;
+    const int j0 = (t.min_y - box_y0 + stride - 1) / stride, j1 = (t.max_y - box_y0) / stride;
     for (int j = j0; j <= j1; ++j) {
-      const double y = y_lo + stride * j;
+      const double y = box_y0 + stride * j;
       std::uint8_t* row = covered.data() + static_cast<size_t>(j) * cols;
       for (int i = i0; i <= i1; ++i) {
         if (row[i]) continue;
-        const double x = x_lo + stride * i;
+        const double x = box_x0 + stride * i;
         const double w0 = t.a[0] * x + t.b[0] * y + t.c[0];
         const double w1 = t.a[1] * x + t.b[1] * y + t.c[1];
         if (w0 >= 0.0 && w1 >= 0.0 && w0 + w1 <= 1.0) row[i] = 1;
