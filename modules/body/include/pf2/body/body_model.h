@@ -53,29 +53,41 @@ struct BodyMesh {
 class BodyModel {
  public:
   // Reads an SMPL-format .npz. Throws pf2::Error naming the file and the array on any problem
-  // (missing array, wrong shape or dtype, corrupt zip).
+  // (missing array, wrong shape or dtype, corrupt zip, a kinematic tree other than SMPL's).
+  // Float arrays may be float32 or float64, C or Fortran order; all-zero posedirs count as none.
   static BodyModel loadNpz(const std::string& path);
-  // The model that ships with the project (environment variable PF2_BODY_MODEL overrides the path).
+  // The model that ships with the project (see defaultModelPath). Throws pf2::Error when missing.
   static BodyModel loadDefault();
+  // $PF2_BODY_MODEL when set, else the shipped modules/body/data/pf2_default_body.npz (the path
+  // is compiled in from the source tree).
   static std::string defaultModelPath();
 
-  int vertexCount() const { return static_cast<int>(v_template_.rows()); }
-  int shapeCount() const { return static_cast<int>(shapedirs_.size()); }
+  int vertexCount() const { return static_cast<int>(v_template_.size() / 3); }
+  int shapeCount() const { return static_cast<int>(shapedirs_.cols()); }
+  bool hasPoseBlendShapes() const { return posedirs_.size() > 0; }
   const std::vector<Eigen::Vector3i>& triangles() const { return triangles_; }
 
   // Poses the model. Thread safe (const).
   BodyMesh evaluate(const BodyParameters& parameters) const;
-  // Rest-pose joints for a shape (no pose, no translation).
+  // Rest-pose joints for a shape (no pose, no translation). Thread safe.
   std::array<Eigen::Vector3d, kBodyJointCount> restJoints(const Eigen::VectorXd& shape) const;
+  // Rest-pose vertices for a shape (template + shape blend shapes), 3V values x0 y0 z0 x1 ...
+  Eigen::VectorXf restVertices(const Eigen::VectorXd& shape) const;
   // Per-vertex skinning weights (vertexCount x 24), rows sum to 1.
   const Eigen::MatrixXf& weights() const { return weights_; }
 
  private:
-  Eigen::Matrix<float, Eigen::Dynamic, 3> v_template_;                 // V x 3
-  std::vector<Eigen::Matrix<float, Eigen::Dynamic, 3>> shapedirs_;     // per beta: V x 3
-  Eigen::MatrixXf posedirs_;            // (V*3) x 207, empty when the model has no pose blend shapes
-  Eigen::MatrixXf J_regressor_;         // 24 x V
-  Eigen::MatrixXf weights_;             // V x 24
+  Eigen::VectorXf v_template_;       // 3V: x, y, z of each vertex
+  Eigen::MatrixXf shapedirs_;        // 3V x B
+  Eigen::MatrixXf posedirs_;         // 3V x 207, empty when the model has no pose blend shapes
+  // The joint regressor applied ahead of time (joints are linear in the shape): 72 = 24 x (x, y, z).
+  Eigen::VectorXd joint_template_;   // J_regressor * v_template
+  Eigen::MatrixXd joint_shapedirs_;  // 72 x B: J_regressor * shapedirs
+  Eigen::MatrixXf weights_;          // V x 24
+  // The non-zero weights of each vertex (compressed rows of weights_): skinning touches only these.
+  std::vector<int> weight_begin_;    // V + 1 offsets
+  std::vector<int> weight_joint_;
+  std::vector<float> weight_value_;
   std::vector<Eigen::Vector3i> triangles_;
 };
 
