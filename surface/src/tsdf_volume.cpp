@@ -199,13 +199,14 @@ TriangleMesh TsdfVolume::extractMesh() const {
   std::vector<std::pair<Eigen::Vector3i, const Block*>> all;
   all.reserve(blocks_.size());
   for (const auto& entry : blocks_) all.emplace_back(entry.first, entry.second.get());
-  const int threads = std::max(1, options_.num_threads);
-  std::vector<Part> parts(threads);
+  // One part per chunk of blocks, merged in chunk order: the mesh is the same whatever the threads.
+  constexpr std::size_t kChunk = 32;
+  std::vector<Part> parts((all.size() + kChunk - 1) / kChunk);
   const float voxel = static_cast<float>(options_.voxel_size);
   const float min_weight = std::max(options_.mesh_min_weight, 1e-6f);
 
-  surface_detail::parallelChunks(all.size(), threads, 32, [&](int worker, std::size_t begin, std::size_t end) {
-    Part& part = parts[worker];
+  surface_detail::parallelChunks(all.size(), options_.num_threads, kChunk, [&](int, std::size_t begin, std::size_t end) {
+    Part& part = parts[begin / kChunk];
     for (std::size_t i = begin; i < end; ++i) {
       const Eigen::Vector3i& index = all[i].first;
       // The block and its seven neighbours on the positive side, by offset bits x | y << 1 | z << 2.
