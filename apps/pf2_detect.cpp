@@ -1,0 +1,246 @@
+// pf2_detect: runs a person detector and the Dual-BBox filter over a TUM-layout sequence and
+// writes the static depth (people removed), the removed-pixel masks and the boxes; with a
+// pf2_synth sequence (gt/masks/) it also prints how much of the people was removed.
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "pf2/core/atomic_file.h"
+#include "pf2/core/command_line.h"
+#include "pf2/core/error.h"
+#include "pf2/core/stage_timer.h"
+#include "pf2/detection/detector_factory.h"
+#include "pf2/filters/dual_bbox_filter.h"
+#include "pf2/filters/mask_metrics.h"
+#include "pf2/io/tum_sequence.h"
+
+namespace {
+
+const char* kUsage =
+    "Usage: pf2_detect SEQUENCE_DIR OUT_DIR [options]\n"
+    "Detects people in every frame of a TUM-layout sequence, removes them from the depth with the\n"
+    "Dual-BBox filter (paper Algorithm 1) and writes\n"
+    "  OUT_DIR/static_depth/<depth name>.png  16-bit, metres x 5000, people removed\n"
+    "  OUT_DIR/masks/<depth name>.png         8-bit, 255 = depth removed as a person's\n"
+    "  OUT_DIR/boxes.txt                      timestamp x_ul y_ul x_lr y_lr score\n"
+    "With SEQUENCE_DIR/gt/masks (pf2_synth) it prints recall of removed person pixels, precision\n"
+    "of the kept depth and retention of static depth.\n"
+    "\n"
+    "Detector:\n"
+    "  --detector NAME        gt | hog | file | yolo | selfie | movenet (those built in; default\n"
+    "                         gt when SEQUENCE_DIR/gt exists, else hog)\n"
+    "  --gt-dir DIR           ground-truth folder (default SEQUENCE_DIR/gt)\n"
+    "  --gt-mask              gt: hand the ground-truth person masks to the filter\n"
+    "  --boxes FILE           file: boxes file (timestamp x_ul y_ul x_lr y_lr score)\n"
+    "  --yolo-model FILE      yolo: .cfg (Darknet, with --yolo-weights) or .onnx (YOLOv5/v8)\n"
+    "  --yolo-weights FILE    yolo: Darknet .weights\n"
+    "  --yolo-size N          yolo: network input width = height (default 416)\n"
+    "  --yolo-layout L        yolo: auto | darknet | v5 | v8 (default auto)\n"
+    "  --hog-scale S          hog: image scale before detection (default 1.0)\n"
+    "  --model FILE           model file of a plug-in backend (selfie, movenet)\n"
+    "Degradation of the detections (any detector; deterministic per frame):\n"
+    "  --shrink F             boxes lose fraction F of width and height (default 0)\n"
+    "  --shift PX             boxes (and masks) move PX pixels in a random direction (default 0)\n"
+    "  --drop P               each person is missed with probability P (default 0)\n"
+    "  --false-positives R    R false boxes per frame on average (default 0)\n"
+    "  --seed N               random seed (default 1)\n"
+    "Filter (defaults are the paper's):\n"
+    "  --lambda L             box enlargement for the ring (default 1.2)\n"
+    "  --background-margin M  metres around (b_min, b_max) (default 0.1)\n"
+    "  --human-margin M       metres around (h_min, h_max) (default 0.2)\n"
+    "  --min-confidence C     boxes need score > C (default 0.5)\n"
+    "  --use-mask             also remove backend masks (dilated) where a backend gives them\n"
+    "  --temporal             guard last frame's removed pixels, moved by groundtruth.txt motion\n"
+    "  --geometric            remove depth in front of the last static depth moved into this view\n"
+    "  --no-filter            write the input depth with the boxes' pixels removed (boxes only)\n"
+    "Other:\n"
+    "  --max-frames N         process the first N frames only\n"
+    "  --json                 print one JSON object as the last line\n"
+    "  -h, --help             this text\n"
+    "Exit status: 0 on success, 1 on bad input (one error line naming the file).\n";
+
+bool exists(const std::string& path) {
+  struct stat s;
+  return ::stat(path.c_str(), &s) == 0;
+}
+
+void makeDirectory(const std::string& path) {
+  if (::mkdir(path.c_str(), 0755) != 0 && !exists(path)) throw pf2::fileError(path, "cannot create folder");
+}
+
+std::string baseName(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+void writePng(const std::string& path, const cv::Mat& image) {
+  const std::string temporary = pf2::temporaryPathFor(path);
+  if (!cv::imwrite(temporary, image)) {
+    std::remove(temporary.c_str());
+    throw pf2::fileError(path, "cannot write image");
+  }
+  pf2::commitTemporaryFile(temporary, path);
+}
+
+cv::Mat toTumDepth(const cv::Mat& depth_m) {
+  cv::Mat out;
+  depth_m.convertTo(out, CV_16U, 5000.0, 0.5);  // saturates beyond 13.1 m
+  return out;
+}
+
+int run(int argc, char** argv) {
+  pf2::CommandLine cli(argc, argv);
+  if (cli.helpRequested()) {
+    std::cout << kUsage;
+    return 0;
+  }
+  // Options first, then the two folders.
+  std::string detector_name = cli.value("--detector", "");
+  pf2::DetectorOptions detector_options;
+  const std::string gt_dir_option = cli.value("--gt-dir", "");
+  detector_options.gt.provide_mask = cli.flag("--gt-mask");
+  detector_options.file.path = cli.value("--boxes", "");
+  detector_options.yolo.model = cli.value("--yolo-model", "");
+  detector_options.yolo.weights = cli.value("--yolo-weights", "");
+  detector_options.yolo.input_width = detector_options.yolo.input_height = cli.integer("--yolo-size", 416);
+  detector_options.yolo.layout = cli.value("--yolo-layout", "auto");
+  detector_options.hog.image_scale = cli.number("--hog-scale", 1.0);
+  if (const auto model = cli.value("--model")) detector_options.extra["model"] = *model;
+  pf2::BoxDegradation degradation;
+  degradation.shrink = cli.number("--shrink", 0.0);
+  degradation.shift = cli.number("--shift", 0.0);
+  degradation.drop_probability = cli.number("--drop", 0.0);
+  degradation.false_positive_rate = cli.number("--false-positives", 0.0);
+  degradation.seed = static_cast<uint64_t>(cli.integer("--seed", 1));
+  if (!(degradation.shrink >= 0 && degradation.shrink < 1) || !(degradation.drop_probability >= 0 && degradation.drop_probability <= 1) ||
+      !(degradation.shift >= 0) || !(degradation.false_positive_rate >= 0)) {
+    throw pf2::Error("--shrink must be in [0, 1), --drop in [0, 1], --shift and --false-positives >= 0");
+  }
+  pf2::DualBBoxFilter::Options filter_options;
+  filter_options.box_scale = cli.number("--lambda", filter_options.box_scale);
+  filter_options.background_margin = cli.number("--background-margin", filter_options.background_margin);
+  filter_options.human_margin = cli.number("--human-margin", filter_options.human_margin);
+  filter_options.min_confidence = cli.number("--min-confidence", filter_options.min_confidence);
+  filter_options.use_mask = cli.flag("--use-mask");
+  filter_options.temporal = cli.flag("--temporal");
+  filter_options.geometric = cli.flag("--geometric");
+  const bool no_filter = cli.flag("--no-filter");
+  const int max_frames = cli.integer("--max-frames", 0);
+  const bool as_json = cli.flag("--json");
+  const auto folders = cli.positionals();
+  if (folders.size() != 2) {
+    throw pf2::Error("expected SEQUENCE_DIR and OUT_DIR, got " + std::to_string(folders.size()) +
+                     " folder argument(s) (see -h)");
+  }
+  const std::string& sequence_dir = folders[0];
+  const std::string& out_dir = folders[1];
+
+  const pf2::TumSequence sequence(sequence_dir);
+  const std::string gt_dir = gt_dir_option.empty() ? sequence_dir + "/gt" : gt_dir_option;
+  if (detector_name.empty()) detector_name = exists(gt_dir + "/boxes.txt") ? "gt" : "hog";
+  detector_options.gt.gt_folder = gt_dir;
+  std::unique_ptr<pf2::HumanDetector> detector = pf2::createHumanDetector(detector_name, detector_options);
+
+  pf2::DualBBoxFilter filter(filter_options);
+  filter.setIntrinsics(sequence.intrinsics());
+  auto evidence = std::make_shared<pf2::PredictedDepthEvidence>();
+  filter.setDynamicEvidence(evidence);
+  const pf2::Trajectory poses = sequence.hasGroundTruth() ? sequence.groundTruth() : pf2::Trajectory();
+  const bool have_masks = exists(gt_dir + "/masks");
+
+  makeDirectory(out_dir);
+  makeDirectory(out_dir + "/static_depth");
+  makeDirectory(out_dir + "/masks");
+
+  pf2::StageStats stats;
+  pf2::MaskCounts counts;
+  std::vector<pf2::Detections> all_detections;
+  Eigen::Isometry3d T_w_prev = Eigen::Isometry3d::Identity();
+  bool have_previous_pose = false;
+  cv::Mat previous_static;
+  const size_t frames = max_frames > 0 ? std::min<size_t>(sequence.size(), max_frames) : sequence.size();
+  for (size_t i = 0; i < frames; ++i) {
+    const pf2::Frame frame = sequence.frame(i);
+    pf2::Detections detections;
+    {
+      pf2::ScopedStageTimer timer(&stats, "detector");
+      detections = detector->detect(frame);
+    }
+    pf2::degradeDetections(degradation, frame.depth.size(), &detections);
+    all_detections.push_back(detections);
+
+    // Camera motion since the last frame, from groundtruth.txt (in the SLAM pipeline: odometry).
+    Eigen::Isometry3d T_cur_prev = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_w_cur;
+    const bool have_pose = !poses.empty() && pf2::interpolateAt(poses, frame.timestamp, 0.1, &T_w_cur);
+    if (have_pose && have_previous_pose) T_cur_prev = T_w_cur.inverse() * T_w_prev;
+    if (filter_options.geometric) {
+      evidence->setPrediction(previous_static.empty()
+                                  ? cv::Mat()
+                                  : pf2::warpDepth(previous_static, frame.intrinsics, T_cur_prev));
+    }
+    cv::Mat static_depth, removed;
+    if (no_filter) {
+      static_depth = frame.depth.clone();
+      for (const auto& p : detections.people) {
+        if (p.score > filter_options.min_confidence) {
+          static_depth(pf2::scaledBoxRect(p.box, 1.0, static_depth.size())).setTo(0.f);
+        }
+      }
+      removed = (frame.depth > 0) & (static_depth == 0);
+    } else {
+      pf2::ScopedStageTimer timer(&stats, "filter");
+      pf2::DualBBoxFilter::Result result = filter.filter(frame.depth, detections, T_cur_prev);
+      static_depth = result.static_depth;
+      removed = result.removed;
+    }
+    previous_static = static_depth;
+    T_w_prev = T_w_cur;
+    have_previous_pose = have_pose;
+
+    const std::string name = baseName(sequence.files(i).depth.file);
+    writePng(out_dir + "/static_depth/" + name, toTumDepth(static_depth));
+    writePng(out_dir + "/masks/" + name, removed);
+    if (have_masks) {
+      const std::string mask_path = gt_dir + "/masks/" + name;
+      const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
+      if (gt.empty()) throw pf2::fileError(mask_path, "cannot read ground-truth mask");
+      if (gt.size() != frame.depth.size() || gt.channels() != 1) {
+        throw pf2::fileError(mask_path, "ground-truth mask is not single-channel of the depth's size");
+      }
+      counts += pf2::countMaskAgreement(frame.depth, static_depth, gt);
+    }
+  }
+  pf2::writeBoxesFile(out_dir + "/boxes.txt", all_detections);
+
+  const pf2::StageSummary det = stats.summary("detector"), fil = stats.summary("filter");
+  std::printf("frames           %zu\n", frames);
+  std::printf("detector         %s\n", detector_name.c_str());
+  std::printf("detector.ms      median %.3f  p90 %.3f  mean %.3f\n", det.median_ms, det.p90_ms, det.mean_ms);
+  if (!no_filter) std::printf("filter.ms        median %.3f  p90 %.3f  mean %.3f\n", fil.median_ms, fil.p90_ms, fil.mean_ms);
+  if (have_masks) {
+    std::printf("recall           %.5f  (person pixels removed / person pixels with depth)\n", counts.recall());
+    std::printf("precision        %.5f  (static pixels kept / pixels kept)\n", counts.precision());
+    std::printf("retention        %.5f  (static pixels kept / static pixels with depth)\n", counts.retention());
+  }
+  if (as_json) {
+    std::printf("{\"frames\":%zu,\"detector\":\"%s\",\"detector_median_ms\":%.4f,\"filter_median_ms\":%.4f",
+                frames, detector_name.c_str(), det.median_ms, fil.median_ms);
+    if (have_masks) {
+      std::printf(",\"recall\":%.6f,\"precision\":%.6f,\"retention\":%.6f", counts.recall(), counts.precision(),
+                  counts.retention());
+    }
+    std::printf("}\n");
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return pf2::runApp("pf2_detect", run, argc, argv); }
