@@ -1,6 +1,8 @@
 // Per-frame time of the learned detectors on a 640x480 frame (the real TUM fr3/walking_xyz frame
 // when the shared data is present, otherwise a synthetic one; the time does not depend on the
 // content). Needs the models (scripts/fetch_models.sh); reports an error per benchmark without.
+// CPU time counts all threads (OpenCV DNN runs its own); run with OPENCV_FOR_THREADS_NUM=1 for the
+// cost on one core.
 #include <benchmark/benchmark.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -31,7 +33,7 @@ void BM_ConvertSelfieGraph(benchmark::State& state) {
     benchmark::DoNotOptimize(net);
   }
 }
-BENCHMARK(BM_ConvertSelfieGraph)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ConvertSelfieGraph)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 void BM_Selfie(benchmark::State& state) {
   if (!humanModelAvailable("selfie")) return state.SkipWithError("no model; run scripts/fetch_models.sh");
@@ -39,7 +41,7 @@ void BM_Selfie(benchmark::State& state) {
   const Frame frame = benchFrame();
   for (auto _ : state) benchmark::DoNotOptimize(selfie.detect(frame));
 }
-BENCHMARK(BM_Selfie)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Selfie)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 // Arguments: network input width and height (multiples of 32).
 void BM_MoveNet(benchmark::State& state) {
@@ -51,7 +53,7 @@ void BM_MoveNet(benchmark::State& state) {
   const Frame frame = benchFrame();
   for (auto _ : state) benchmark::DoNotOptimize(movenet.detect(frame));
 }
-BENCHMARK(BM_MoveNet)->Args({256, 192})->Args({384, 288})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MoveNet)->Args({256, 192})->Args({384, 288})->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 // Argument: pose_every; the time is the mean over the frames, MoveNet runs included.
 void BM_Learned(benchmark::State& state) {
@@ -63,7 +65,7 @@ void BM_Learned(benchmark::State& state) {
   const Frame frame = benchFrame();
   for (auto _ : state) benchmark::DoNotOptimize(learned.detect(frame));
 }
-BENCHMARK(BM_Learned)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Learned)->Arg(1)->Arg(3)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pf2
