@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <type_traits>
 #include <sys/stat.h>
 
 #include <Eigen/Geometry>
@@ -261,7 +262,8 @@ void toPolygonMesh(const BodyMesh& mesh, pcl::PolygonMesh* polygon_mesh) {
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     auto& indices = polygon_mesh->polygons[i].vertices;
     indices.resize(3);
-    for (int k = 0; k < 3; ++k) indices[k] = static_cast<std::uint32_t>(mesh.triangles[i][k]);
+    using Index = std::decay_t<decltype(indices)>::value_type;
+    for (int k = 0; k < 3; ++k) indices[k] = static_cast<Index>(mesh.triangles[i][k]);
   }
 }
 

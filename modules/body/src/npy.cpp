@@ -22,6 +22,7 @@ struct DtypeInfo {
 };
 
 DtypeInfo dtypeInfo(const std::string& descr, const std::string& where) {
+  if (descr.size() >= 2 && descr[1] == 'O') throw Error(where + ": object arrays (pickles) are not supported");
   if (descr.size() < 3) throw Error(where + ": unsupported dtype '" + descr + "'");
   const char order = descr[0];
   const char kind = descr[1];
@@ -32,7 +33,6 @@ DtypeInfo dtypeInfo(const std::string& descr, const std::string& where) {
     }
     size = size * 10 + static_cast<std::size_t>(descr[i] - '0');
   }
-  if (kind == 'O') throw Error(where + ": object arrays (pickles) are not supported");
   const bool known = (kind == 'f' && (size == 4 || size == 8)) ||
                      ((kind == 'i' || kind == 'u') && (size == 1 || size == 2 || size == 4 || size == 8)) ||
                      (kind == 'b' && size == 1);
