@@ -1,5 +1,7 @@
 #include "pf2/detection/selfie_segmenter.h"
 
+#include <algorithm>
+
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -23,9 +25,8 @@ SelfieSegmenter::SelfieSegmenter(const Options& options) : options_(options), im
 
 SelfieSegmenter::~SelfieSegmenter() = default;
 
-cv::Mat SelfieSegmenter::probability(const cv::Mat& bgr) {
-  if (bgr.empty() || bgr.type() != CV_8UC3) throw Error("selfie: expected a non-empty 8-bit BGR image");
-  // The model takes RGB in [0, 1]; the whole image is stretched to the square input.
+cv::Mat SelfieSegmenter::run(const cv::Mat& bgr) {
+  // The model takes RGB in [0, 1] at 256x256.
   const cv::Mat blob =
       cv::dnn::blobFromImage(bgr, 1.0 / 255.0, cv::Size(kInputSize, kInputSize), cv::Scalar(), true, false);
   impl_->net.setInput(blob);
@@ -36,6 +37,20 @@ cv::Mat SelfieSegmenter::probability(const cv::Mat& bgr) {
   cv::Mat full;
   cv::resize(small, full, bgr.size(), 0, 0, cv::INTER_LINEAR);
   return full;
+}
+
+cv::Mat SelfieSegmenter::probability(const cv::Mat& bgr) {
+  if (bgr.empty() || bgr.type() != CV_8UC3) throw Error("selfie: expected a non-empty 8-bit BGR image");
+  if (!options_.square_crops || bgr.rows == bgr.cols) return run(bgr);
+  const int side = std::min(bgr.rows, bgr.cols);
+  const cv::Point far_end = bgr.cols > bgr.rows ? cv::Point(bgr.cols - side, 0) : cv::Point(0, bgr.rows - side);
+  cv::Mat sum(bgr.size(), CV_32F, cv::Scalar(0)), count(bgr.size(), CV_32F, cv::Scalar(0));
+  for (const cv::Point& corner : {cv::Point(0, 0), far_end}) {
+    const cv::Rect crop(corner, cv::Size(side, side));
+    sum(crop) += run(bgr(crop));
+    count(crop) += 1.0;
+  }
+  return sum / count;
 }
 
 std::vector<PersonDetection> SelfieSegmenter::components(const cv::Mat& probability) const {

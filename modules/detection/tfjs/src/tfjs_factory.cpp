@@ -15,7 +15,7 @@ class ExtraReader {
  public:
   explicit ExtraReader(const DetectorExtraOptions& extra) : extra_(extra) {
     static const std::set<std::string> kKnown = {
-        "selfie.model",    "selfie.threshold", "selfie.min_area",   "movenet.model",
+        "selfie.model",    "selfie.threshold", "selfie.min_area",   "selfie.square_crops", "movenet.model",
         "movenet.width",   "movenet.height",   "movenet.min_score", "learned.pose_every"};
     for (const auto& entry : extra_) {
       const std::string family = entry.first.substr(0, entry.first.find('.') + 1);
@@ -52,6 +52,7 @@ SelfieSegmenter::Options selfieOptions(const ExtraReader& r) {
   r.text("selfie.model", &o.model_json);
   r.number("selfie.threshold", &o.mask_threshold);
   r.number("selfie.min_area", &o.min_area_fraction);
+  r.number("selfie.square_crops", &o.square_crops);
   return o;
 }
 

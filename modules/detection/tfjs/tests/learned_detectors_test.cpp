@@ -67,27 +67,32 @@ TEST(LearnedDetectors, SelfieMasksBothPeopleOnRealFrame) {
   if (!loadRealFrame(&real)) GTEST_SKIP() << "no real frame in " << kFrameDir;
   ASSERT_EQ(real.people.size(), 2u);
 
-  SelfieSegmenter selfie{SelfieSegmenter::Options()};
-  const Detections d = selfie.detect(real.frame);
-  EXPECT_DOUBLE_EQ(d.timestamp, real.frame.timestamp);
-  ASSERT_EQ(d.people.size(), 2u);
-  cv::Mat all(real.reference.size(), CV_8U, cv::Scalar(0));
-  for (const PersonDetection& p : d.people) {
-    ASSERT_EQ(p.mask.size(), real.reference.size());
-    all |= p.mask;
-    EXPECT_GT(p.score, 0.5f);
-    EXPECT_LE(p.score, 1.0f);
-    EXPECT_FALSE(p.box.empty());
-  }
-  const double union_iou = iou(all, real.reference);
-  std::printf("selfie mask IoU against the reference: %.3f\n", union_iou);
-  RecordProperty("selfie_mask_iou", std::to_string(union_iou));
-  EXPECT_GE(union_iou, 0.7);
-  // Each reference person is matched by one detection's mask, not by both.
-  for (const cv::Mat& ref_person : real.people) {
-    int matched = 0;
-    for (const PersonDetection& p : d.people) matched += iou(p.mask, ref_person) > 0.5;
-    EXPECT_EQ(matched, 1);
+  for (const bool square_crops : {false, true}) {
+    SCOPED_TRACE(square_crops ? "two square crops" : "stretched frame");
+    SelfieSegmenter::Options options;
+    options.square_crops = square_crops;
+    SelfieSegmenter selfie(options);
+    const Detections d = selfie.detect(real.frame);
+    EXPECT_DOUBLE_EQ(d.timestamp, real.frame.timestamp);
+    ASSERT_EQ(d.people.size(), 2u);
+    cv::Mat all(real.reference.size(), CV_8U, cv::Scalar(0));
+    for (const PersonDetection& p : d.people) {
+      ASSERT_EQ(p.mask.size(), real.reference.size());
+      all |= p.mask;
+      EXPECT_GT(p.score, 0.5f);
+      EXPECT_LE(p.score, 1.0f);
+      EXPECT_FALSE(p.box.empty());
+    }
+    const double union_iou = iou(all, real.reference);
+    std::printf("selfie (%s) mask IoU against the reference: %.3f\n", square_crops ? "square crops" : "stretched",
+                union_iou);
+    EXPECT_GE(union_iou, 0.7);
+    // Each reference person is matched by one detection's mask, not by both.
+    for (const cv::Mat& ref_person : real.people) {
+      int matched = 0;
+      for (const PersonDetection& p : d.people) matched += iou(p.mask, ref_person) > 0.5;
+      EXPECT_EQ(matched, 1);
+    }
   }
 }
 

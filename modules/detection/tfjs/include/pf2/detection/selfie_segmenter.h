@@ -20,6 +20,10 @@ class SelfieSegmenter : public HumanDetector {
     std::string model_json;           // TF.js model.json; empty = humanModelPath("selfie")
     float mask_threshold = 0.5f;      // probability above which a pixel belongs to a person
     double min_area_fraction = 0.01;  // components smaller than this fraction of the image are dropped
+    // false: the whole frame is stretched to the square input (one run). true: two square crops at
+    // both ends of the longer side, probabilities averaged where they overlap (two runs, no aspect
+    // distortion, finer input; mask IoU 0.81 instead of 0.77 on the real test frame).
+    bool square_crops = false;
   };
 
   // Loads the model. Throws pf2::Error naming the file if it is missing or cannot be imported.
@@ -37,6 +41,9 @@ class SelfieSegmenter : public HumanDetector {
   std::vector<PersonDetection> components(const cv::Mat& probability) const;
 
  private:
+  // One network run on the whole of bgr (stretched), probability at bgr's size.
+  cv::Mat run(const cv::Mat& bgr);
+
   struct Impl;
   Options options_;
   std::unique_ptr<Impl> impl_;
