@@ -35,13 +35,16 @@ void BM_ConvertSelfieGraph(benchmark::State& state) {
 }
 BENCHMARK(BM_ConvertSelfieGraph)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
+// Argument: square_crops (0: one stretched run, 1: two square crops).
 void BM_Selfie(benchmark::State& state) {
   if (!humanModelAvailable("selfie")) return state.SkipWithError("no model; run scripts/fetch_models.sh");
-  SelfieSegmenter selfie{SelfieSegmenter::Options()};
+  SelfieSegmenter::Options options;
+  options.square_crops = state.range(0) != 0;
+  SelfieSegmenter selfie(options);
   const Frame frame = benchFrame();
   for (auto _ : state) benchmark::DoNotOptimize(selfie.detect(frame));
 }
-BENCHMARK(BM_Selfie)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Selfie)->Arg(0)->Arg(1)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 // Arguments: network input width and height (multiples of 32).
 void BM_MoveNet(benchmark::State& state) {
