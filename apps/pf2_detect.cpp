@@ -5,7 +5,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <iterator>
+#include <regex>
 #include <memory>
 #include <string>
 
@@ -37,6 +40,8 @@ const char* kUsage =
     "                         gt when SEQUENCE_DIR/gt exists, else hog)\n"
     "  --gt-dir DIR           ground-truth folder (default SEQUENCE_DIR/gt)\n"
     "  --gt-mask              gt: hand the ground-truth person masks to the filter\n"
+    "  --gt-misalign PX       depth lies PX pixels right of the gt masks, for the metrics (default:\n"
+    "                         'misalignment N px' from gt/README.md, else 0)\n"
     "  --boxes FILE           file: boxes file (timestamp x_ul y_ul x_lr y_lr score)\n"
     "  --yolo-model FILE      yolo: .cfg (Darknet, with --yolo-weights) or .onnx (YOLOv5/v8)\n"
     "  --yolo-weights FILE    yolo: Darknet .weights\n"
@@ -64,6 +69,25 @@ const char* kUsage =
     "  --json                 print one JSON object as the last line\n"
     "  -h, --help             this text\n"
     "Exit status: 0 on success, 1 on bad input (one error line naming the file).\n";
+
+// pf2_synth names the depth shift in gt/README.md ("misalignment 3 px"); 0 when absent.
+int misalignmentFromReadme(const std::string& gt_dir) {
+  std::ifstream in(gt_dir + "/README.md");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::smatch match;
+  if (std::regex_search(text, match, std::regex("misalignment (-?[0-9]+) px"))) return std::stoi(match[1]);
+  return 0;
+}
+
+// Moves a mask dx pixels right (left for negative dx), zero where nothing moved in.
+cv::Mat shiftedRight(const cv::Mat& mask, int dx) {
+  if (dx == 0) return mask;
+  cv::Mat out = cv::Mat::zeros(mask.size(), mask.type());
+  const int width = mask.cols - std::abs(dx);
+  if (width <= 0) return out;
+  mask(cv::Rect(std::max(0, -dx), 0, width, mask.rows)).copyTo(out(cv::Rect(std::max(0, dx), 0, width, mask.rows)));
+  return out;
+}
 
 bool exists(const std::string& path) {
   struct stat s;
@@ -104,6 +128,7 @@ int run(int argc, char** argv) {
   std::string detector_name = cli.value("--detector", "");
   pf2::DetectorOptions detector_options;
   const std::string gt_dir_option = cli.value("--gt-dir", "");
+  const auto misalign_option = cli.value("--gt-misalign");
   detector_options.gt.provide_mask = cli.flag("--gt-mask");
   detector_options.file.path = cli.value("--boxes", "");
   detector_options.yolo.model = cli.value("--yolo-model", "");
@@ -153,6 +178,8 @@ int run(int argc, char** argv) {
   filter.setDynamicEvidence(evidence);
   const pf2::Trajectory poses = sequence.hasGroundTruth() ? sequence.groundTruth() : pf2::Trajectory();
   const bool have_masks = exists(gt_dir + "/masks");
+  int misalign = misalignmentFromReadme(gt_dir);
+  if (misalign_option) misalign = std::stoi(*misalign_option);
 
   makeDirectory(out_dir);
   makeDirectory(out_dir + "/static_depth");
@@ -214,7 +241,7 @@ int run(int argc, char** argv) {
       if (gt.size() != frame.depth.size() || gt.channels() != 1) {
         throw pf2::fileError(mask_path, "ground-truth mask is not single-channel of the depth's size");
       }
-      counts += pf2::countMaskAgreement(frame.depth, static_depth, gt);
+      counts += pf2::countMaskAgreement(frame.depth, static_depth, shiftedRight(gt, misalign));
     }
   }
   pf2::writeBoxesFile(out_dir + "/boxes.txt", all_detections);

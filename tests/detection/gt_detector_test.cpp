@@ -27,10 +27,10 @@ std::string makeGt(const std::string& name, const std::string& boxes) {
 
 const char* kBoxes =
     "# timestamp id x_ul y_ul x_lr y_lr visible_fraction\n"
-    "10.000000 1 2 3 12 18 0.9\r\n"
-    "10.000000 2 20 5 25 25 0.3\n"
+    "10.000000 1 2 3 11 17 0.9\r\n"
+    "10.000000 2 20 5 24 24 0.3\n"
     "\n"
-    "10.033333 2 20 5 25 25 1.0\n";
+    "10.033333 2 20 5 24 24 1.0\n";
 
 Frame frameAt(double t) {
   Frame f;
@@ -49,7 +49,8 @@ TEST(GtDetector, ReadsBoxesAndMasksByNearestStamp) {
   const Detections d = detector.detect(frameAt(10.004));
   ASSERT_EQ(d.people.size(), 2u);
   EXPECT_EQ(d.people[0].box.x_ul, 2.f);
-  EXPECT_EQ(d.people[0].box.y_lr, 18.f);
+  EXPECT_EQ(d.people[0].box.y_lr, 18.f);  // inclusive 17 in the file
+  EXPECT_EQ(d.people[0].box.width(), 10.f);
   EXPECT_EQ(d.people[0].score, 1.f);
   ASSERT_FALSE(d.people[0].mask.empty());
   EXPECT_EQ(cv::countNonZero(d.people[0].mask), 150);
@@ -112,7 +113,7 @@ TEST(GtDetector, DegradationIsApplied) {
   ASSERT_EQ(d.people.size(), 2u);
   EXPECT_FLOAT_EQ(d.people[0].box.width(), 5.f);
   EXPECT_FLOAT_EQ(d.people[0].box.height(), 7.5f);
-  EXPECT_FLOAT_EQ(d.people[0].box.x_ul, 4.5f);
+  EXPECT_FLOAT_EQ(d.people[0].box.x_ul, 4.5f);  // box (2, 3)-(12, 18)
 }
 
 }  // namespace

@@ -35,8 +35,8 @@ int main(int argc, char** argv) {
     rgb << stamp << " rgb/" << stamp << ".png\n";
     depth << stamp << " depth/" << stamp << ".png\n";
     poses << stamp << " 0 0 0 0 0 0 1\n";
-    boxes << stamp << " 1 " << person.x << " " << person.y << " " << person.x + person.width << " "
-          << person.y + person.height << " 1.0\n";
+    boxes << stamp << " 1 " << person.x << " " << person.y << " " << person.x + person.width - 1 << " "
+          << person.y + person.height - 1 << " 1.0\n";  // inclusive corners, as pf2_synth
   }
   return 0;
 }

@@ -36,6 +36,10 @@ GtDetector::GtDetector(const Options& options) : options_(options) {
     if (e.box.x_lr < e.box.x_ul || e.box.y_lr < e.box.y_ul) {
       throw fileError(path, number, "box corners out of order (x_lr < x_ul or y_lr < y_ul)");
     }
+    // pf2_synth's corners are inclusive (the last pixel of the mask); PersonBox's lower right is
+    // exclusive like cv::Rect.
+    e.box.x_lr += 1;
+    e.box.y_lr += 1;
     e.visible_fraction = visible;
     boxes_[stamp].push_back(e);
   }

@@ -1,6 +1,7 @@
 #pragma once
 // "gt" backend: the people pf2_synth rendered, read from a sequence's gt/ folder (gt/boxes.txt,
-// gt/masks/<stamp>.png; see docs/detection.md for the format), optionally degraded.
+// gt/masks/<stamp>.png; see docs/detection.md for the format), optionally degraded. Boxes and masks
+// are those of the colour image (pf2_synth --misalign shifts the depth, not them).
 #include <map>
 #include <string>
 #include <vector>
@@ -26,7 +27,8 @@ class GtDetector : public HumanDetector {
 
   std::string name() const override { return "gt"; }
   // Boxes of the gt stamp nearest the frame's timestamp (none when farther than
-  // max_time_difference); score 1. Throws pf2::Error naming the mask file when it is unreadable or
+  // max_time_difference); score 1. The file's inclusive corners become PersonBox's exclusive ones
+  // (x_lr + 1, y_lr + 1). Throws pf2::Error naming the mask file when it is unreadable or
   // of the wrong size/type. NOT thread safe.
   Detections detect(const Frame& frame) override;
 
