@@ -1,8 +1,9 @@
 #include "pf2/surface/tsdf_volume.h"
 
 #include <cmath>
+#include <limits>
 #include <unordered_map>
-#include <unordered_set>
+#include <algorithm>
 
 #include "parallel.h"
 #include "pf2/core/error.h"
@@ -31,6 +32,16 @@ void checkImages(const cv::Mat& depth, const cv::Mat& bgr, const CameraIntrinsic
 std::uint64_t edgeKey(const Eigen::Vector3i& v, int axis) {
   const auto field = [](int x) { return static_cast<std::uint64_t>(x + (1 << 19)) & 0xFFFFFu; };
   return (field(v.x()) << 42) | (field(v.y()) << 22) | (field(v.z()) << 2) | static_cast<std::uint64_t>(axis);
+}
+
+// Block coordinates packed 21 bits each (+-1M blocks: +-80 km at 1 cm voxels).
+std::uint64_t blockKey(const Eigen::Vector3i& b) {
+  const auto field = [](int x) { return static_cast<std::uint64_t>(x + (1 << 20)) & 0x1FFFFFu; };
+  return (field(b.x()) << 42) | (field(b.y()) << 21) | field(b.z());
+}
+Eigen::Vector3i blockFromKey(std::uint64_t key) {
+  const auto field = [](std::uint64_t bits) { return static_cast<int>(bits & 0x1FFFFFu) - (1 << 20); };
+  return Eigen::Vector3i(field(key >> 42), field(key >> 21), field(key));
 }
 
 }  // namespace
@@ -63,33 +74,69 @@ void TsdfVolume::update(const cv::Mat& depth, const cv::Mat& bgr, const CameraIn
   const float cx = static_cast<float>(K.cx), cy = static_cast<float>(K.cy);
   const Eigen::Isometry3f T_w_c_f = T_w_c.cast<float>();
 
-  // 1. Blocks along the truncation band of every (stride-th) pixel's ray.
-  std::unordered_set<Eigen::Vector3i, IndexHash> touched;
+  // 1. Blocks along the truncation band of every (stride-th) pixel's ray, as packed keys: a sorted
+  // vector is much cheaper than a hash set for the few hundred thousand candidates of a frame.
   const float inverse_voxel = 1.f / voxel;
+  constexpr float kInverseSide = 1.f / kSide;
+  const float half_voxel = 0.5f * kInverseSide;
   const int stride = options_.allocation_stride;
-  for (int v = 0; v < depth.rows; v += stride) {
-    const float* row = depth.ptr<float>(v);
-    for (int u = 0; u < depth.cols; u += stride) {
-      const float d = row[u];
-      if (!(d >= min_depth && d <= max_depth)) continue;
-      const Eigen::Vector3f ray_c((u - cx) / fx, (v - cy) / fy, 1.f);
-      const Eigen::Vector3f p0_w = T_w_c_f * (ray_c * (d - truncation));
-      const Eigen::Vector3f p1_w = T_w_c_f * (ray_c * (d + truncation));
-      const int samples = static_cast<int>(std::ceil((p1_w - p0_w).norm() * inverse_voxel)) + 1;
-      Eigen::Vector3i last(INT32_MIN, 0, 0);
-      for (int s = 0; s <= samples; ++s) {
-        const Eigen::Vector3f p_w = p0_w + (p1_w - p0_w) * (static_cast<float>(s) / samples);
-        const Eigen::Vector3i block((p_w * inverse_voxel).array().round().cast<int>().unaryExpr(
-            [](int x) { return floorDiv(x, kSide); }));
-        if (block == last) continue;
-        last = block;
-        touched.insert(block);
+  const int rows = (depth.rows + stride - 1) / stride;
+  std::vector<std::vector<std::uint64_t>> candidates(std::max(1, options_.num_threads));
+  surface_detail::parallelChunks(rows, options_.num_threads, 8, [&](int worker, std::size_t begin, std::size_t end) {
+    std::vector<std::uint64_t>& keys = candidates[worker];
+    std::vector<std::uint64_t> recent(256, ~std::uint64_t{0});
+    for (std::size_t row = begin; row < end; ++row) {
+      const int v = static_cast<int>(row) * stride;
+      const float* depth_row = depth.ptr<float>(v);
+      for (int u = 0; u < depth.cols; u += stride) {
+        const float d = depth_row[u];
+        if (!(d >= min_depth && d <= max_depth)) continue;
+        const Eigen::Vector3f ray_c((u - cx) / fx, (v - cy) / fy, 1.f);
+        // The band's segment in block units (block b spans [b, b + 1)), walked block by block
+        // (Amanatides & Woo's grid traversal).
+        const Eigen::Vector3f g0 = (T_w_c_f * (ray_c * (d - truncation)) * inverse_voxel).array() * kInverseSide + half_voxel;
+        const Eigen::Vector3f g1 = (T_w_c_f * (ray_c * (d + truncation)) * inverse_voxel).array() * kInverseSide + half_voxel;
+        const Eigen::Vector3f direction = g1 - g0;
+        Eigen::Vector3i cell(static_cast<int>(std::floor(g0.x())), static_cast<int>(std::floor(g0.y())),
+                             static_cast<int>(std::floor(g0.z())));
+        const Eigen::Vector3i last(static_cast<int>(std::floor(g1.x())), static_cast<int>(std::floor(g1.y())),
+                                   static_cast<int>(std::floor(g1.z())));
+        Eigen::Vector3i step;
+        Eigen::Vector3f t_max, t_delta;
+        for (int a = 0; a < 3; ++a) {
+          step[a] = direction[a] > 0 ? 1 : -1;
+          const float magnitude = std::abs(direction[a]);
+          t_delta[a] = magnitude > 0 ? 1.f / magnitude : std::numeric_limits<float>::infinity();
+          const float boundary = static_cast<float>(cell[a] + (step[a] > 0 ? 1 : 0));
+          t_max[a] = magnitude > 0 ? (boundary - g0[a]) / direction[a] : std::numeric_limits<float>::infinity();
+        }
+        const int max_steps = (last - cell).cwiseAbs().sum();
+        for (int n = 0;; ++n) {
+          const std::uint64_t key = blockKey(cell);
+          // A small direct-mapped filter drops the repeats of neighbouring rays before sorting.
+          std::uint64_t& seen = recent[(key * 0x9E3779B97F4A7C15ull) >> 56];
+          if (seen != key) {
+            seen = key;
+            keys.push_back(key);
+          }
+          if (n >= max_steps) break;
+          int axis = 0;
+          if (t_max[1] < t_max[axis]) axis = 1;
+          if (t_max[2] < t_max[axis]) axis = 2;
+          cell[axis] += step[axis];
+          t_max[axis] += t_delta[axis];
+        }
       }
     }
-  }
+  });
+  std::vector<std::uint64_t> touched;
+  for (const auto& keys : candidates) touched.insert(touched.end(), keys.begin(), keys.end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   std::vector<std::pair<Eigen::Vector3i, Block*>> work;
   work.reserve(touched.size());
-  for (const auto& index : touched) {
+  for (const std::uint64_t key : touched) {
+    const Eigen::Vector3i index = blockFromKey(key);
     auto it = blocks_.find(index);
     if (it == blocks_.end()) {
       if (sign < 0) continue;  // de-integration never allocates: nothing of this frame is there
@@ -98,47 +145,58 @@ void TsdfVolume::update(const cv::Mat& depth, const cv::Mat& bgr, const CameraIn
     work.emplace_back(index, it->second.get());
   }
 
-  // 2. Per block, project every voxel into the image and average the observation in.
+  // 2. Per block, project every voxel into the image and average the observation in. The voxel
+  // centre is carried in homogeneous pixel coordinates q = K (R_c_w p_w + t_c_w), stepped per voxel.
   const Eigen::Matrix3f R_c_w = T_w_c_f.linear().transpose();
   const Eigen::Vector3f t_c_w = -R_c_w * T_w_c_f.translation();
-  const Eigen::Vector3f step_x = R_c_w.col(0) * voxel, step_y = R_c_w.col(1) * voxel,
-                        step_z = R_c_w.col(2) * voxel;
+  Eigen::Matrix3f K_f;
+  K_f << fx, 0.f, cx, 0.f, fy, cy, 0.f, 0.f, 1.f;
+  const Eigen::Matrix3f P = K_f * R_c_w;
+  const Eigen::Vector3f Kt = K_f * t_c_w;
+  const Eigen::Vector3f step_x = P.col(0) * voxel, step_y = P.col(1) * voxel, step_z = P.col(2) * voxel;
   const float u_max = depth.cols - 0.5f, v_max = depth.rows - 0.5f;
   const bool colour = !bgr.empty();
+  const float inverse_truncation = 1.f / truncation;
+  const float* depth_data = depth.ptr<float>(0);
+  const std::size_t depth_step = depth.step1();
+  const unsigned char* bgr_data = colour ? bgr.ptr<unsigned char>(0) : nullptr;
+  const std::size_t bgr_step = colour ? bgr.step1() : 0;
   std::vector<char> emptied(work.size(), 0);
   surface_detail::parallelChunks(work.size(), options_.num_threads, 16, [&](int, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       Block& block = *work[i].second;
       const Eigen::Vector3f origin_w = (work[i].first * kSide).cast<float>() * voxel;
-      const Eigen::Vector3f origin_c = R_c_w * origin_w + t_c_w;
+      const Eigen::Vector3f origin_q = P * origin_w + Kt;
       bool any_weight = false;
       for (int z = 0; z < kSide; ++z) {
         for (int y = 0; y < kSide; ++y) {
-          Eigen::Vector3f p_c = origin_c + step_y * static_cast<float>(y) + step_z * static_cast<float>(z);
+          const Eigen::Vector3f row_q = origin_q + step_y * static_cast<float>(y) + step_z * static_cast<float>(z);
+          float qx = row_q.x(), qy = row_q.y(), qz = row_q.z();
           Voxel* voxel_row = &block.voxels[kSide * (y + kSide * z)];
-          for (int x = 0; x < kSide; ++x, p_c += step_x) {
-            Voxel& vox = voxel_row[x];
-            if (p_c.z() < min_depth) continue;
-            const float inverse_z = 1.f / p_c.z();
-            const float fu = fx * p_c.x() * inverse_z + cx, fv = fy * p_c.y() * inverse_z + cy;
+          for (int x = 0; x < kSide; ++x, qx += step_x.x(), qy += step_x.y(), qz += step_x.z()) {
+            if (qz < min_depth) continue;
+            const float inverse_z = 1.f / qz;
+            const float fu = qx * inverse_z, fv = qy * inverse_z;
             if (!(fu >= -0.5f && fu < u_max && fv >= -0.5f && fv < v_max)) continue;
             const int u = static_cast<int>(fu + 0.5f), v = static_cast<int>(fv + 0.5f);
-            const float d = depth.ptr<float>(v)[u];
+            const float d = depth_data[v * depth_step + u];
             if (!(d >= min_depth && d <= max_depth)) continue;
-            const float sdf = d - p_c.z();
+            const float sdf = d - qz;
             if (sdf < -truncation) continue;
-            const float observation = std::min(1.f, sdf / truncation);
+            Voxel& vox = voxel_row[x];
+            const float observation = std::min(1.f, sdf * inverse_truncation);
             const float weight = vox.weight + sign;
             if (weight < 0.5f) {
               vox = Voxel();
               continue;
             }
-            vox.tsdf = (vox.tsdf * vox.weight + sign * observation) / weight;
+            const float inverse_weight = 1.f / weight;
+            vox.tsdf = (vox.tsdf * vox.weight + sign * observation) * inverse_weight;
             if (colour) {
-              const cv::Vec3b& c = bgr.ptr<cv::Vec3b>(v)[u];
-              vox.r = (vox.r * vox.weight + sign * c[2]) / weight;
-              vox.g = (vox.g * vox.weight + sign * c[1]) / weight;
-              vox.b = (vox.b * vox.weight + sign * c[0]) / weight;
+              const unsigned char* c = bgr_data + v * bgr_step + 3 * u;
+              vox.r = (vox.r * vox.weight + sign * c[2]) * inverse_weight;
+              vox.g = (vox.g * vox.weight + sign * c[1]) * inverse_weight;
+              vox.b = (vox.b * vox.weight + sign * c[0]) * inverse_weight;
             }
             vox.weight = weight;
           }
