@@ -5,6 +5,7 @@
 #include <mutex>
 
 #include <Eigen/Eigenvalues>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
@@ -143,9 +144,16 @@ struct Samples {
   std::vector<float> intensity;         // I_cur at the sample
 };
 
-Samples sampleLevel(const OdometryLevel& level, int stride) {
+// A regular grid over the level, its step chosen so that about max_points samples have depth:
+// beyond ~10^4 points the pose hardly improves while the cost grows linearly.
+Samples sampleLevel(const OdometryLevel& level, int max_points) {
   Samples s;
   const CameraIntrinsics& k = level.intrinsics;
+  const int valid = cv::countNonZero(level.depth);
+  const int stride =
+      std::max(1, static_cast<int>(std::ceil(std::sqrt(double(valid) / std::max(1, max_points)))));
+  s.points.reserve(valid / (stride * stride) + level.depth.cols);
+  s.intensity.reserve(s.points.capacity());
   for (int v = 0; v < level.depth.rows; v += stride) {
     const float* z_row = level.depth.ptr<float>(v);
     const float* i_row = level.intensity.ptr<float>(v);
@@ -159,6 +167,13 @@ Samples sampleLevel(const OdometryLevel& level, int stride) {
   }
   return s;
 }
+
+// Float sums per stripe (a few thousand points) keep the inner loop vectorised; stripes are
+// added up in double.
+struct StripeSums {
+  Eigen::Matrix<float, 6, 6> H = Eigen::Matrix<float, 6, 6>::Zero();
+  Eigen::Matrix<float, 6, 1> b = Eigen::Matrix<float, 6, 1>::Zero();
+};
 
 struct Accumulator {
   Matrix6d H = Matrix6d::Zero();
@@ -180,12 +195,23 @@ struct Accumulator {
 
 }  // namespace
 
+struct RgbdOdometry::UndistortMaps {
+  std::mutex mutex;
+  cv::Size size;
+  CameraIntrinsics intrinsics;
+  cv::Mat map_x, map_y;
+};
+
 RgbdOdometry::RgbdOdometry() : RgbdOdometry(Options()) {}
 RgbdOdometry::RgbdOdometry(const Options& options)
-    : options_(options), features_(options.features) {
+    : options_(options), features_(options.features),
+      undistort_(std::make_shared<UndistortMaps>()) {
+  if (!options_.distortion.empty() && options_.distortion.size() != 4 &&
+      options_.distortion.size() != 5 && options_.distortion.size() != 8)
+    throw Error("RgbdOdometry: distortion needs 4, 5 or 8 coefficients");
   if (options_.pyramid_levels < 1 || options_.finest_level < 0 ||
-      options_.finest_level >= options_.pyramid_levels || options_.finest_stride < 1)
-    throw Error("RgbdOdometry: pyramid_levels, finest_level or finest_stride out of range");
+      options_.finest_level >= options_.pyramid_levels || options_.max_points_per_level < 6)
+    throw Error("RgbdOdometry: pyramid_levels, finest_level or max_points_per_level out of range");
 }
 
 OdometryFrame RgbdOdometry::prepare(const Frame& frame, const cv::Mat& person_mask) const {
@@ -200,12 +226,57 @@ OdometryFrame RgbdOdometry::prepare(const Frame& frame, const cv::Mat& person_ma
     throw Error("RgbdOdometry::prepare: frame " + std::to_string(frame.index) +
                 ": person mask must be CV_8U of the frame's size");
 
-  OdometryFrame out;
-  out.timestamp = frame.timestamp;
-  out.index = frame.index;
-  cv::cvtColor(frame.rgb, out.gray, cv::COLOR_BGR2GRAY);
+  cv::Mat gray;
+  cv::cvtColor(frame.rgb, gray, cv::COLOR_BGR2GRAY);
+  if (options_.distortion.empty())
+    return prepareGray(gray, frame.depth, frame.intrinsics, frame.timestamp, frame.index, person_mask);
 
-  cv::Mat depth = frame.depth.clone();
+  cv::Mat map_x, map_y;
+  {
+    std::lock_guard<std::mutex> lock(undistort_->mutex);
+    const CameraIntrinsics& k = frame.intrinsics;
+    const CameraIntrinsics& c = undistort_->intrinsics;
+    if (undistort_->map_x.empty() || undistort_->size != gray.size() || c.fx != k.fx ||
+        c.fy != k.fy || c.cx != k.cx || c.cy != k.cy) {
+      const cv::Matx33d K(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+      cv::initUndistortRectifyMap(K, options_.distortion, cv::noArray(), K, gray.size(), CV_32FC1,
+                                  undistort_->map_x, undistort_->map_y);
+      undistort_->size = gray.size();
+      undistort_->intrinsics = k;
+    }
+    map_x = undistort_->map_x;
+    map_y = undistort_->map_y;
+  }
+  // Depth and mask by nearest neighbour: interpolating across an edge invents surfaces.
+  cv::Mat gray_r, depth_r, mask_r;
+  cv::remap(gray, gray_r, map_x, map_y, cv::INTER_LINEAR);
+  cv::remap(frame.depth, depth_r, map_x, map_y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
+  if (!person_mask.empty())
+    cv::remap(person_mask, mask_r, map_x, map_y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
+  return prepareGray(gray_r, depth_r, frame.intrinsics, frame.timestamp, frame.index, mask_r);
+}
+
+OdometryFrame RgbdOdometry::prepare(const Keyframe& keyframe) const {
+  cv::Mat depth;
+  keyframe.depth.convertTo(depth, CV_32F, 1.0 / Keyframe::kDepthUnitsPerMetre);
+  OdometryFrame out = prepareGray(keyframe.gray, depth, keyframe.intrinsics, keyframe.timestamp,
+                                  keyframe.frame_index, cv::Mat());
+  out.keypoints = keyframe.keypoints;
+  out.descriptors = keyframe.descriptors;
+  out.keypoint_points = keyframe.keypoint_points;
+  out.has_features = true;
+  makeReference(&out);
+  return out;
+}
+
+OdometryFrame RgbdOdometry::prepareGray(const cv::Mat& gray, const cv::Mat& depth_m,
+                                        const CameraIntrinsics& intrinsics, double timestamp,
+                                        int index, const cv::Mat& person_mask) const {
+  OdometryFrame out;
+  out.timestamp = timestamp;
+  out.index = index;
+  out.gray = gray;
+  cv::Mat depth = depth_m.clone();
   const float lo = static_cast<float>(options_.min_depth), hi = static_cast<float>(options_.max_depth);
   for (int v = 0; v < depth.rows; ++v) {
     float* row = depth.ptr<float>(v);
@@ -224,7 +295,7 @@ OdometryFrame RgbdOdometry::prepare(const Frame& frame, const cv::Mat& person_ma
   out.feature_mask = depth > 0.0f;
   out.valid_depth_pixels = cv::countNonZero(out.feature_mask);
 
-  CameraIntrinsics k0 = frame.intrinsics;
+  CameraIntrinsics k0 = intrinsics;
   k0.width = depth.cols;
   k0.height = depth.rows;
   out.levels.resize(options_.pyramid_levels);
@@ -250,6 +321,7 @@ void RgbdOdometry::makeReference(OdometryFrame* frame) const {
     // Full-resolution depth is noisy pixel to pixel: take normals over two pixels there.
     level.normals = computeNormals(level.depth, level.intrinsics, l == 0 ? 2 : 1, 0.05);
   }
+  features_.extract(frame);
   frame->is_reference = true;
 }
 
@@ -270,7 +342,7 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
 
   for (int l = coarsest; l >= options_.finest_level; --l) {
     const OdometryLevel& ref = reference.levels[l];
-    const Samples samples = sampleLevel(current.levels[l], l == 0 ? options_.finest_stride : 1);
+    const Samples samples = sampleLevel(current.levels[l], options_.max_points_per_level);
     const int n = static_cast<int>(samples.points.size());
     const int span = std::max(1, coarsest - options_.finest_level);
     const double t = coarsest == options_.finest_level ? 1.0 : double(coarsest - l) / span;
@@ -286,10 +358,11 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
       const Eigen::Vector3f tr = T.translation().cast<float>();
       Accumulator total;
       std::mutex mutex;
-      const int stripes = std::max(1, std::min(8, n / 2000));
+      const int stripes = std::max(1, n / 2000);
       cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
         Accumulator acc;
-        Vector6d J;
+        StripeSums sums;
+        Eigen::Matrix<float, 6, 1> J;
         for (int i = range.start; i < range.end; ++i) {
           const Eigen::Vector3f q = R * samples.points[i] + tr;
           if (q.z() < options_.min_depth) continue;
@@ -307,26 +380,27 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
           const Eigen::Vector3f p_ref((ui - cx) * z_ref / fx, (vi - cy) * z_ref / fy, z_ref);
 
           // Point-to-plane: r = n . (q - p_ref), J = [n, q x n].
-          const double r_g = nrm.dot(q - p_ref);
-          const double sigma_g = options_.depth_sigma * q.z() * q.z();
-          const double w_g = huberWeight(r_g / sigma_g, options_.huber_k) / (sigma_g * sigma_g);
-          J.head<3>() = nrm.cast<double>();
-          J.tail<3>() = q.cross(nrm).cast<double>();
-          acc.H.noalias() += (w_g * J) * J.transpose();
-          acc.b.noalias() += (w_g * r_g) * J;
+          const float r_g = nrm.dot(q - p_ref);
+          const float sigma_g = static_cast<float>(options_.depth_sigma) * q.z() * q.z();
+          const float w_g = static_cast<float>(huberWeight(r_g / sigma_g, options_.huber_k)) /
+                            (sigma_g * sigma_g);
+          J.head<3>() = nrm;
+          J.tail<3>() = q.cross(nrm);
+          sums.H.noalias() += (w_g * J) * J.transpose();
+          sums.b.noalias() += (w_g * r_g) * J;
 
           // Photometric: r = I_ref(pi(q)) - I_cur, J = dI/du * du/dq * [I, -[q]x].
-          const double r_i = bilinear(ref.intensity, u, v) - samples.intensity[i];
+          const float r_i = bilinear(ref.intensity, u, v) - samples.intensity[i];
           if (lambda > 0.0) {
             const float gx = bilinear(ref.gradient_x, u, v) * fx * inv_z;
             const float gy = bilinear(ref.gradient_y, u, v) * fy * inv_z;
             const Eigen::Vector3f g(gx, gy, -(gx * q.x() + gy * q.y()) * inv_z);
-            const double w_i = lambda * inv_sigma_i2 *
-                               huberWeight(r_i / options_.intensity_sigma, options_.huber_k);
-            J.head<3>() = g.cast<double>();
-            J.tail<3>() = q.cross(g).cast<double>();
-            acc.H.noalias() += (w_i * J) * J.transpose();
-            acc.b.noalias() += (w_i * r_i) * J;
+            const float w_i = static_cast<float>(
+                lambda * inv_sigma_i2 * huberWeight(r_i / options_.intensity_sigma, options_.huber_k));
+            J.head<3>() = g;
+            J.tail<3>() = q.cross(g);
+            sums.H.noalias() += (w_i * J) * J.transpose();
+            sums.b.noalias() += (w_i * r_i) * J;
           }
           if (std::fabs(r_g) < options_.inlier_distance) {
             ++acc.inliers;
@@ -334,6 +408,8 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
             acc.photometric_sq += r_i * r_i;
           }
         }
+        acc.H = sums.H.cast<double>();
+        acc.b = sums.b.cast<double>();
         std::lock_guard<std::mutex> lock(mutex);
         total.add(acc);
       }, stripes);
@@ -371,27 +447,25 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
   return result;
 }
 
-OdometryResult RgbdOdometry::estimate(OdometryFrame* reference, OdometryFrame* current,
+OdometryResult RgbdOdometry::estimate(const OdometryFrame& reference, OdometryFrame* current,
                                       const Eigen::Isometry3d& T_ref_cur_guess) const {
-  makeReference(reference);
+  if (!reference.is_reference) throw Error("RgbdOdometry::estimate: reference not made a reference");
   OdometryResult result;
   Eigen::Isometry3d start = T_ref_cur_guess;
   if (options_.features_every_frame) {
-    features_.extract(reference);
     features_.extract(current);
     result.used_features = true;
-    result.sparse = features_.align(*reference, *current);
+    result.sparse = features_.align(reference, *current);
     if (result.sparse.valid) start = result.sparse.T_ref_cur;
   }
-  result.dense = refine(*reference, *current, start);
+  result.dense = refine(reference, *current, start);
   if (!result.dense.valid && !result.used_features) {
     // The prior was not good enough (fast motion): start again from the features' pose.
-    features_.extract(reference);
     features_.extract(current);
     result.used_features = true;
-    result.sparse = features_.align(*reference, *current);
+    result.sparse = features_.align(reference, *current);
     if (result.sparse.valid) {
-      const DenseAlignment retry = refine(*reference, *current, result.sparse.T_ref_cur);
+      const DenseAlignment retry = refine(reference, *current, result.sparse.T_ref_cur);
       if (retry.valid || retry.inlier_ratio > result.dense.inlier_ratio) result.dense = retry;
     }
   }
@@ -400,16 +474,16 @@ OdometryResult RgbdOdometry::estimate(OdometryFrame* reference, OdometryFrame* c
   return result;
 }
 
-OdometryResult RgbdOdometry::estimateWithoutPrior(OdometryFrame* reference,
+OdometryResult RgbdOdometry::estimateWithoutPrior(const OdometryFrame& reference,
                                                   OdometryFrame* current) const {
-  makeReference(reference);
-  features_.extract(reference);
+  if (!reference.is_reference)
+    throw Error("RgbdOdometry::estimateWithoutPrior: reference not made a reference");
   features_.extract(current);
   OdometryResult result;
   result.used_features = true;
-  result.sparse = features_.align(*reference, *current);
+  result.sparse = features_.align(reference, *current);
   if (!result.sparse.valid) return result;
-  result.dense = refine(*reference, *current, result.sparse.T_ref_cur);
+  result.dense = refine(reference, *current, result.sparse.T_ref_cur);
   result.valid = result.dense.valid;
   result.T_ref_cur = result.dense.T_ref_cur;
   return result;

@@ -28,7 +28,7 @@ struct OdometryFrame {
   cv::Mat gray;                       // CV_8U, level 0 grey image (feature extraction)
   cv::Mat feature_mask;               // CV_8U, 255 where features may be taken (depth valid, no person)
   int valid_depth_pixels = 0;         // level 0 pixels with usable depth
-  bool is_reference = false;          // gradients and normals present
+  bool is_reference = false;          // gradients, normals and features present
 
   // Filled by FeatureAligner::extract; only keypoints with usable depth are kept.
   bool has_features = false;

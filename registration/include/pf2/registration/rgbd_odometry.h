@@ -12,12 +12,14 @@
 // Pixels with depth 0 (no measurement, removed people) never take part; a person mask passed to
 // prepare() removes those pixels from depth and from feature extraction as well.
 #include <memory>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 #include "pf2/core/frame.h"
 #include "pf2/registration/feature_aligner.h"
+#include "pf2/registration/keyframe.h"
 #include "pf2/registration/odometry_frame.h"
 
 namespace pf2 {
@@ -44,24 +46,33 @@ struct OdometryResult {
   DenseAlignment dense;
 };
 
+// Published lens distortion (OpenCV k1, k2, p1, p2, k3) of the TUM RGB-D cameras; their images
+// are not rectified, and on fr1 the corners move by tens of pixels.
+inline const std::vector<double> kTumFreiburg1Distortion{0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+inline const std::vector<double> kTumFreiburg2Distortion{0.2312, -0.7849, -0.0033, -0.0001, 0.9172};
+
 class RgbdOdometry {
  public:
   struct Options {
+    // Lens distortion of the (depth-registered) colour camera, OpenCV order k1 k2 p1 p2 k3;
+    // empty = the images are rectified. Colour, depth and mask are undistorted in prepare() to
+    // the same pinhole intrinsics, so stored keyframes hold rectified images.
+    std::vector<double> distortion;
     int pyramid_levels = 3;        // levels, each half the size of the one above
     int finest_level = 0;          // the finest level iterated (1 = stop at 320x240: faster, coarser)
     int iterations_coarse = 12;    // Gauss-Newton iterations at the coarsest level
     int iterations_fine = 4;       // at the finest level; levels between interpolate
-    int finest_stride = 2;         // pixel step when sampling the finest level 0 (1 = every pixel)
+    int max_points_per_level = 12000;  // current-frame samples per level (a regular grid)
     double min_depth = 0.2;        // metres; closer depth is discarded
     double max_depth = 6.0;        // metres; farther depth is discarded (TUM depth gets noisy)
     int person_mask_dilation = 4;  // pixels added around a person mask before it is cut out
     double intensity_sigma = 0.04;   // expected photometric noise, intensity units [0,1]
-    double depth_sigma = 0.004;      // point-to-plane noise at 1 m depth, metres (grows with z^2)
+    double depth_sigma = 0.01;       // point-to-plane noise at 1 m depth, metres (grows with z^2)
     double photometric_weight = 1.0; // relative weight of the photometric term (0 = ICP only)
     double huber_k = 1.345;          // Huber threshold on normalised residuals
     double max_depth_difference = 0.07;  // metres; larger |z_ref - z| is occlusion, not a match
     double max_normal_gradient = 0.3;    // metres per pixel of depth change kept in normal estimation
-    double convergence_step = 1e-6;  // stop a level when the update is below this (m and rad)
+    double convergence_step = 2e-5;  // stop a level when the update is below this (m and rad)
     // Verdict thresholds:
     double inlier_distance = 0.03;   // metres, point-to-plane residual counted as inlier
     int min_inliers = 800;           // at the finest level used (after sampling)
@@ -82,8 +93,11 @@ class RgbdOdometry {
   // Pyramids of a frame. person_mask: empty, or CV_8U of the frame's size, 255 = person. Throws
   // pf2::Error on images of wrong type or size. Thread safe.
   OdometryFrame prepare(const Frame& frame, const cv::Mat& person_mask = cv::Mat()) const;
-  // Adds gradients and normals so the frame can be a reference (keyframe). Idempotent. Thread
-  // safe for distinct frames.
+  // Pyramids of a stored keyframe (its grey image and depth), features copied, made a reference.
+  // Thread safe.
+  OdometryFrame prepare(const Keyframe& keyframe) const;
+  // Adds gradients, normals and features so the frame can be a reference (keyframe).
+  // Idempotent. Thread safe for distinct frames.
   void makeReference(OdometryFrame* frame) const;
 
   // Dense refinement from T_ref_cur_guess. The reference must have been made a reference.
@@ -91,16 +105,24 @@ class RgbdOdometry {
   DenseAlignment refine(const OdometryFrame& reference, const OdometryFrame& current,
                         const Eigen::Isometry3d& T_ref_cur_guess) const;
 
-  // Sparse (per Options) + dense. Features are extracted on demand, hence the non-const
-  // frames. Thread safe for distinct frames.
-  OdometryResult estimate(OdometryFrame* reference, OdometryFrame* current,
+  // Sparse (per Options) + dense. The reference must have been made a reference (throws
+  // pf2::Error otherwise); the current frame's features are extracted on demand. Thread safe for
+  // distinct current frames.
+  OdometryResult estimate(const OdometryFrame& reference, OdometryFrame* current,
                           const Eigen::Isometry3d& T_ref_cur_guess) const;
   // Sparse first, then dense from its pose (no prior: relocalisation, loop verification).
-  OdometryResult estimateWithoutPrior(OdometryFrame* reference, OdometryFrame* current) const;
+  OdometryResult estimateWithoutPrior(const OdometryFrame& reference, OdometryFrame* current) const;
 
  private:
+  OdometryFrame prepareGray(const cv::Mat& gray, const cv::Mat& depth_m,
+                            const CameraIntrinsics& intrinsics, double timestamp, int index,
+                            const cv::Mat& person_mask) const;
+
+  struct UndistortMaps;  // lazily built remap tables for the frame size, shared by copies
+
   Options options_;
   FeatureAligner features_;
+  std::shared_ptr<UndistortMaps> undistort_;
 };
 
 }  // namespace pf2

@@ -1,0 +1,101 @@
+#pragma once
+// The tracking back-end: keeps the keyframe pose graph, looks for loops among keyframes by
+// appearance (LoopDetector), verifies each candidate geometrically (ORB RANSAC + dense
+// refinement), and when a loop is accepted optimises the graph and writes the corrected poses
+// into the KeyframeMap (and hands them to a callback, e.g. for the mapper to re-integrate).
+//
+// Threading: addKeyframe() only queues and returns at once; the work happens in processPending(),
+// either in the caller's thread or in the back-end's own worker thread (start()/stop()). All
+// public methods are thread safe. The callback runs in whichever thread processes the queue and
+// must not call back into the back-end.
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "pf2/registration/keyframe.h"
+#include "pf2/registration/loop_detector.h"
+#include "pf2/registration/pose_graph.h"
+#include "pf2/registration/rgbd_odometry.h"
+
+namespace pf2 {
+
+class PoseGraphBackend {
+ public:
+  struct Options {
+    PoseGraph::Options graph;
+    RgbdOdometry::Options verification;  // odometry used to verify loop candidates
+    double odometry_translation_sigma = 0.01;  // metres, per keyframe-to-keyframe edge
+    double odometry_rotation_sigma = 0.01;     // radians, per keyframe-to-keyframe edge
+    double loop_translation_sigma = 0.005;     // metres, verified loop edge
+    double loop_rotation_sigma = 0.005;        // radians, verified loop edge
+    int min_loop_gap = 10;       // a loop joins keyframes at least this many ids apart
+    int max_candidates = 3;      // candidates verified per new keyframe, best-voted first
+  };
+
+  struct LoopClosure {
+    int from = -1;  // the older keyframe
+    int to = -1;    // the newer keyframe
+    Eigen::Isometry3d T_from_to = Eigen::Isometry3d::Identity();
+    double inlier_ratio = 0.0;  // dense verification's inlier ratio
+  };
+
+  using CorrectionCallback = std::function<void(const std::map<int, Eigen::Isometry3d>& T_w_k)>;
+
+  // map and loops must outlive the back-end; the tracker adds keyframes and descriptors to them.
+  PoseGraphBackend(const Options& options, KeyframeMap* map, LoopDetector* loops);
+  ~PoseGraphBackend();  // stops the worker (finishing the queue)
+  PoseGraphBackend(const PoseGraphBackend&) = delete;
+  PoseGraphBackend& operator=(const PoseGraphBackend&) = delete;
+
+  // Called after every optimisation with all corrected keyframe poses. Set it before start().
+  void setCorrectionCallback(CorrectionCallback callback);
+
+  // Queues keyframe `id` (already in the map and the loop detector), measured from keyframe
+  // reference_id as T_ref_k; reference_id = -1 for the first keyframe.
+  void addKeyframe(int id, int reference_id, const Eigen::Isometry3d& T_ref_k);
+  // Processes everything queued, in this thread.
+  void processPending();
+  // Worker thread that processes the queue as keyframes arrive; stop() finishes the queue first.
+  void start();
+  void stop();
+  // Blocks until the queue is empty and its last keyframe processed.
+  void waitIdle();
+
+  std::vector<LoopClosure> loopClosures() const;
+  int optimisations() const;
+
+ private:
+  struct Pending {
+    int id;
+    int reference_id;
+    Eigen::Isometry3d T_ref_k;
+  };
+  void process(const Pending& pending);
+  void workerLoop();
+
+  Options options_;
+  KeyframeMap* map_;
+  LoopDetector* loops_;
+  RgbdOdometry verifier_;
+  CorrectionCallback callback_;
+
+  std::mutex work_mutex_;  // serialises processing (graph_ is only touched under it)
+  PoseGraph graph_;
+
+  mutable std::mutex queue_mutex_;
+  std::condition_variable queue_changed_;
+  std::deque<Pending> queue_;
+  bool busy_ = false;
+  bool stopping_ = false;
+  std::thread worker_;
+  std::vector<LoopClosure> closures_;
+  int optimisations_ = 0;
+};
+
+}  // namespace pf2

@@ -1,0 +1,95 @@
+#include "pf2/registration/tracker.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "pf2/core/pose.h"
+#include "rendered_scene.h"
+
+namespace pf2 {
+namespace {
+
+// Small images keep the rendering cheap; the odometry is resolution independent.
+CameraIntrinsics smallCamera() { return CameraIntrinsics::tumFreiburg1().scaled(0.5); }
+
+Eigen::Isometry3d pathPose(int i) {
+  return test::cameraPose(0.01 * i, -0.1 + 0.004 * i, -0.5 + 0.006 * i, 0.02, 0.012 * i, 0.0);
+}
+
+Tracker::Options syncOptions() {
+  Tracker::Options options;
+  options.asynchronous_backend = false;
+  return options;
+}
+
+TEST(Tracker, TracksARenderedPathAndReportsLostFrames) {
+  Tracker tracker(syncOptions());
+  const CameraIntrinsics k = smallCamera();
+  const Eigen::Isometry3d T_w_0 = pathPose(0);
+  auto expected = [&](int i) { return T_w_0.inverse() * pathPose(i); };  // world = first camera
+
+  for (int i = 0; i < 6; ++i) {
+    const TrackResult r = tracker.track(test::renderRoom(pathPose(i), k, i));
+    ASSERT_EQ(r.status, TrackStatus::kOk) << "frame " << i;
+    EXPECT_LT((r.T_w_c.translation() - expected(i).translation()).norm(), 0.002) << "frame " << i;
+    EXPECT_EQ(r.keyframe_created, i == 0) << "frame " << i;  // small motion: one keyframe
+    EXPECT_FALSE(r.stage_ms.empty());
+  }
+
+  // A frame without depth (e.g. a person covering the whole view, removed from depth).
+  Frame blank = test::renderRoom(pathPose(6), k, 6);
+  blank.depth.setTo(0.0f);
+  EXPECT_EQ(tracker.track(blank).status, TrackStatus::kLost);
+
+  // A frame of noise: depth and colour random.
+  Frame noise = test::renderRoom(pathPose(7), k, 7);
+  cv::randu(noise.depth, cv::Scalar(0.3), cv::Scalar(5.0));
+  cv::randu(noise.rgb, cv::Scalar::all(0), cv::Scalar::all(255));
+  const TrackResult lost = tracker.track(noise);
+  EXPECT_EQ(lost.status, TrackStatus::kLost);
+  EXPECT_FALSE(lost.odometry.valid);
+
+  // Back to the scene, 3 cm further along: relocalised against the keyframes, then tracked.
+  const TrackResult back = tracker.track(test::renderRoom(pathPose(9), k, 9));
+  ASSERT_EQ(back.status, TrackStatus::kRelocalised);
+  EXPECT_LT((back.T_w_c.translation() - expected(9).translation()).norm(), 0.002);
+  EXPECT_LT(rotationAngle((back.T_w_c.inverse() * expected(9)).rotation()), 0.001);
+  const TrackResult next = tracker.track(test::renderRoom(pathPose(10), k, 10));
+  EXPECT_EQ(next.status, TrackStatus::kOk);
+  EXPECT_LT((next.T_w_c.translation() - expected(10).translation()).norm(), 0.002);
+
+  EXPECT_GT(tracker.stats().summary("odometry").count, 0);
+  EXPECT_GT(tracker.stats().summary("relocalise").count, 0);
+}
+
+TEST(Tracker, NoPoseBeforeTheFirstUsableFrame) {
+  Tracker tracker(syncOptions());
+  Frame blank = test::renderRoom(pathPose(0), smallCamera(), 0);
+  blank.depth.setTo(0.0f);
+  EXPECT_EQ(tracker.track(blank).status, TrackStatus::kLost);
+  EXPECT_EQ(tracker.keyframes().size(), 0u);
+  const TrackResult first = tracker.track(test::renderRoom(pathPose(1), smallCamera(), 1));
+  EXPECT_EQ(first.status, TrackStatus::kOk);
+  EXPECT_TRUE(first.keyframe_created);
+  EXPECT_LT(first.T_w_c.translation().norm(), 1e-12);  // the world frame is this camera
+}
+
+TEST(Tracker, KeyframesFollowMotion) {
+  Tracker::Options options = syncOptions();
+  options.keyframes.max_translation = 0.03;
+  Tracker tracker(options);
+  int created = 0;
+  for (int i = 0; i < 8; ++i) {
+    const TrackResult r = tracker.track(test::renderRoom(pathPose(i), smallCamera(), i));
+    ASSERT_NE(r.status, TrackStatus::kLost);
+    created += r.keyframe_created;
+  }
+  // 8 frames, 1.2 cm each -> about 8.4 cm: the first keyframe plus one every ~3 cm.
+  EXPECT_GE(created, 3);
+  EXPECT_LE(created, 4);
+  EXPECT_EQ(static_cast<int>(tracker.keyframes().size()), created);
+}
+
+}  // namespace
+}  // namespace pf2
