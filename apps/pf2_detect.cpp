@@ -60,6 +60,10 @@ const char* kUsage =
     "  --background-margin M  metres around (b_min, b_max) (default 0.1)\n"
     "  --human-margin M       metres around (h_min, h_max) (default 0.2)\n"
     "  --min-confidence C     boxes need score > C (default 0.5)\n"
+    "  --bin-width M          depth histogram bin, metres (default 0.05)\n"
+    "  --human-window M       width of the person's principal depth window, metres (default 1.0)\n"
+    "  --grow-fraction F      window grows into bins holding >= F x its mean bin (default 0.03)\n"
+    "  --near-preference F    nearest window holding >= F x the best count wins (default 0.6)\n"
     "  --use-mask             also remove backend masks (dilated) where a backend gives them\n"
     "  --temporal             guard last frame's removed pixels, moved by groundtruth.txt motion\n"
     "  --geometric            remove depth in front of the last static depth moved into this view\n"
@@ -152,6 +156,11 @@ int run(int argc, char** argv) {
   filter_options.background_margin = cli.number("--background-margin", filter_options.background_margin);
   filter_options.human_margin = cli.number("--human-margin", filter_options.human_margin);
   filter_options.min_confidence = cli.number("--min-confidence", filter_options.min_confidence);
+  pf2::HistogramOptions& human = filter_options.human_histogram;
+  human.bin_width = filter_options.background_histogram.bin_width = cli.number("--bin-width", human.bin_width);
+  human.window = cli.number("--human-window", human.window);
+  human.grow_fraction = cli.number("--grow-fraction", human.grow_fraction);
+  human.near_preference = cli.number("--near-preference", human.near_preference);
   filter_options.use_mask = cli.flag("--use-mask");
   filter_options.temporal = cli.flag("--temporal");
   filter_options.geometric = cli.flag("--geometric");

@@ -22,6 +22,14 @@ PersonDetection person(float x_ul, float y_ul, float x_lr, float y_lr, float sco
   return p;
 }
 
+// The hand-made scenes are small: a 0.4 m person window grown by bins >= 25 % keeps the numbers
+// below easy to check by hand (the defaults are tuned for whole bodies, see docs/filters.md).
+DualBBoxFilter::Options testOptions() {
+  DualBBoxFilter::Options o;
+  o.human_histogram = HistogramOptions{0.05, 10.0, 0.4, 0.25, 0.6};
+  return o;
+}
+
 Detections detections(std::vector<PersonDetection> people) {
   Detections d;
   d.people = std::move(people);
@@ -47,7 +55,7 @@ TEST(PrincipalInterval, NearestLargeWindowGrownByNeighbours) {
   // 100 px at 1.52 m, 30 px at 1.62 m (neighbour of the window... two bins away), 160 px at 3.02 m.
   cv::Mat depth(1, 290, CV_32F);
   for (int i = 0; i < 290; ++i) depth.at<float>(0, i) = i < 100 ? 1.52f : i < 130 ? 1.62f : 3.02f;
-  HistogramOptions o;  // 0.05 m bins, 0.4 m window, grow 0.25, near preference 0.6
+  HistogramOptions o{0.05, 10.0, 0.4, 0.25, 0.6};  // bins, max depth, window, grow, near preference
   const DepthInterval near = principalInterval(depth, cv::Mat(), cv::Rect(0, 0, 290, 1), o);
   ASSERT_TRUE(near.valid);
   // 130 >= 0.6 x 160: the person's window wins over the wall; it spans bins 30 and 32.
@@ -76,7 +84,7 @@ TEST(PrincipalInterval, MaskRoiAndInvalidDepths) {
   depth.at<float>(1, 3) = 4.02f;
   cv::Mat mask = cv::Mat::zeros(2, 4, CV_8U);
   mask.at<uint8_t>(1, 3) = 1;
-  HistogramOptions o;
+  HistogramOptions o{0.05, 10.0, 0.4, 0.25, 0.6};
   const DepthInterval masked = principalInterval(depth, mask, cv::Rect(0, 0, 4, 2), o);
   ASSERT_TRUE(masked.valid);
   EXPECT_NEAR(masked.min, 4.0, 1e-9);
@@ -86,7 +94,7 @@ TEST(PrincipalInterval, MaskRoiAndInvalidDepths) {
 
 TEST(DualBBoxFilter, Algorithm1OnHandMadeScene) {
   const Scene scene;
-  DualBBoxFilter filter;
+  DualBBoxFilter filter(testOptions());
   const auto result = filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
 
   cv::Mat expected_static = scene.depth.clone();
@@ -114,7 +122,7 @@ TEST(DualBBoxFilter, Algorithm1OnHandMadeScene) {
 
 TEST(DualBBoxFilter, BoxesAtOrBelowConfidenceAreIgnored) {
   const Scene scene;
-  DualBBoxFilter filter;
+  DualBBoxFilter filter(testOptions());
   const auto result = filter.filter(scene.depth, detections({person(14, 9, 26, 26, 0.5f)}));
   EXPECT_TRUE(result.people.empty());
   EXPECT_EQ(differing(result.static_depth, scene.depth), 0);
@@ -122,7 +130,7 @@ TEST(DualBBoxFilter, BoxesAtOrBelowConfidenceAreIgnored) {
 
 TEST(DualBBoxFilter, LambdaOneHasNoRing) {
   const Scene scene;
-  DualBBoxFilter::Options o;
+  DualBBoxFilter::Options o = testOptions();
   o.box_scale = 1.0;
   DualBBoxFilter filter(o);
   const auto result = filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
@@ -137,7 +145,7 @@ TEST(DualBBoxFilter, OverlappingPeopleDoNotGiveEachOtherBack) {
   cv::Mat depth(30, 40, CV_32F, cv::Scalar(4.02f));
   depth(cv::Rect(5, 5, 10, 20)).setTo(1.52f);
   depth(cv::Rect(15, 5, 10, 20)).setTo(2.52f);
-  DualBBoxFilter filter;
+  DualBBoxFilter filter(testOptions());
   const auto result = filter.filter(depth, detections({person(4, 4, 16, 26), person(12, 4, 26, 26)}));
   ASSERT_EQ(result.people.size(), 2u);
   EXPECT_EQ(cv::countNonZero(result.static_depth(cv::Rect(5, 5, 20, 20))), 0);
@@ -147,7 +155,7 @@ TEST(DualBBoxFilter, OverlappingPeopleDoNotGiveEachOtherBack) {
 
 TEST(DualBBoxFilter, DegenerateInputs) {
   const Scene scene;
-  DualBBoxFilter filter;
+  DualBBoxFilter filter(testOptions());
   // Empty box (zero width) and a box with corners swapped: no person, nothing changes.
   auto r = filter.filter(scene.depth, detections({person(20, 10, 20, 25), person(25, 25, 15, 10)}));
   EXPECT_TRUE(r.people.empty());
@@ -195,7 +203,7 @@ TEST(DualBBoxFilter, MaskAdditionRemovesMaskedPixelsOutsideTheBox) {
   p.mask = cv::Mat::zeros(30, 40, CV_8U);
   p.mask(cv::Rect(15, 10, 10, 15)).setTo(255);
   p.mask.at<uint8_t>(13, 11) = 255;  // the arm outside the ring, as a segmenter would see it
-  DualBBoxFilter::Options o;
+  DualBBoxFilter::Options o = testOptions();
   DualBBoxFilter plain(o);
   EXPECT_EQ(plain.filter(scene.depth, detections({p})).static_depth.at<float>(13, 10), 1.6f);
   o.use_mask = true;
@@ -211,7 +219,7 @@ TEST(DualBBoxFilter, MaskAdditionRemovesMaskedPixelsOutsideTheBox) {
 
 TEST(DualBBoxFilter, TemporalAdditionGuardsAMissedPersonForMaxAgeFrames) {
   const Scene scene;
-  DualBBoxFilter::Options o;
+  DualBBoxFilter::Options o = testOptions();
   o.temporal = true;
   o.temporal_dilation = 1;
   o.temporal_max_age = 2;
@@ -246,7 +254,7 @@ TEST(DualBBoxFilter, GeometricAdditionUsesTheEvidence) {
   const Scene scene;
   auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
   evidence->setPrediction(cv::Mat(30, 40, CV_32F, cv::Scalar(3.02f)));  // the wall everywhere
-  DualBBoxFilter::Options o;
+  DualBBoxFilter::Options o = testOptions();
   o.geometric = true;
   DualBBoxFilter filter(o);
   filter.setDynamicEvidence(evidence);

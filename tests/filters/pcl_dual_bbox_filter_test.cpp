@@ -28,10 +28,12 @@ TEST(PclDualBBoxFilter, SameResultAsTheImagePath) {
       cloud->at(u, v) = z > 0 ? pcl::PointXYZ(p.x(), p.y(), p.z()) : pcl::PointXYZ(NAN, NAN, NAN);
     }
   }
-  DualBBoxFilter image_filter;
+  DualBBoxFilter::Options options;
+  options.human_histogram = HistogramOptions{0.05, 10.0, 0.4, 0.25, 0.6};
+  DualBBoxFilter image_filter(options);
   const auto expected = image_filter.filter(depth, detections);
 
-  PclDualBBoxFilter<pcl::PointXYZ> filter;
+  PclDualBBoxFilter<pcl::PointXYZ> filter(options);
   filter.setInputCloud(cloud);
   filter.setDetections(detections);
   pcl::PointCloud<pcl::PointXYZ> organized;

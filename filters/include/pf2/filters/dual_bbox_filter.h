@@ -43,10 +43,11 @@ struct DepthInterval {
 struct HistogramOptions {
   double bin_width = 0.05;      // histogram bin, metres
   double max_depth = 10.0;      // depths at or beyond this are not counted, metres
-  double window = 0.4;          // width of the depth window searched for the most pixels, metres
-                                // (about a body's depth extent: the whole person fits in it)
-  double grow_fraction = 0.25;  // the window grows by each neighbouring bin holding at least this
-                                // fraction of the window's mean bin count
+  double window = 1.0;          // width of the depth window searched for the most pixels, metres:
+                                // a walking person seen by a camera pitched down spans ~1 m in z
+                                // (1.8 m x sin 30 deg plus the body's thickness; see docs/filters.md)
+  double grow_fraction = 0.03;  // the window grows by each neighbouring bin holding at least this
+                                // fraction of the window's mean bin count (a person's depth tail)
   double near_preference = 0.6; // the nearest window holding at least this fraction of the best
                                 // window's count wins (1 = plain maximum): a person occludes what
                                 // is behind them, so their mode is the nearest large one
@@ -100,7 +101,8 @@ class DualBBoxFilter {
     double background_margin = 0.1;  // metres around (b_min, b_max)
     double human_margin = 0.2;       // metres around (h_min, h_max)
     HistogramOptions human_histogram;             // for each box's D_h^t
-    HistogramOptions background_histogram{0.05, 10.0, 0.4, 0.25, 1.0};  // for D_b (plain maximum)
+    HistogramOptions background_histogram{0.05, 10.0, 0.4, 0.25, 1.0};  // for D_b: the most
+                                     // populated 0.4 m (plain maximum), grown by bins >= 25 %
     // --- beyond the paper ---
     bool use_mask = false;           // use backend masks where present
     int mask_dilation = 3;           // pixels the mask is dilated by
