@@ -1,0 +1,39 @@
+#pragma once
+// Every knob of the pipeline in one struct made of the stages' own Options (DESIGN.md: one list
+// of knobs). pf2_slam --config reads a ConfigFile into it; docs/slam.md lists the keys.
+#include <string>
+
+#include "pf2/core/config_file.h"
+#include "pf2/detection/detector_factory.h"
+#include "pf2/filters/dual_bbox_filter.h"
+#include "pf2/registration/tracker.h"
+#include "pf2/surface/mapper.h"
+
+namespace pf2 {
+
+struct SlamOptions {
+  // Person detector backend: a name of humanDetectorNames(), "none" (no person removal: the
+  // baseline that shows what removal buys) or "auto" (gt when the sequence has a gt/ folder,
+  // else "learned" when its models are installed, else "hog").
+  std::string detector = "auto";
+  DetectorOptions detection;
+  DualBBoxFilter::Options filter = defaultFilterOptions();
+  Tracker::Options tracker;
+  Mapper::Options mapper;
+  bool build_map = true;             // fuse keyframes into the TSDF and OctoMap
+  Mapper::ExportOptions map_files;   // which map files are written at the end
+  int max_frames = 0;                // frames processed from the start (0 = all)
+  int prefetch_frames = 4;           // frames decoded ahead in a loader thread
+  bool progress = true;              // progress line with fps on standard error
+
+  // The filter as the pipeline runs it: the paper's Algorithm 1 plus the backend mask and the
+  // temporal guard (measured in docs/BENCHMARKS.md); the geometric hook stays off until the
+  // map renders predictions.
+  static DualBBoxFilter::Options defaultFilterOptions();
+};
+
+// Reads the keys documented in docs/slam.md from `config` into `options` (absent keys keep
+// their values) and fails on keys nobody reads. Throws pf2::Error naming file, line and key.
+void applyConfig(const ConfigFile& config, SlamOptions* options);
+
+}  // namespace pf2

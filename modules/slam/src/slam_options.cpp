@@ -1,0 +1,56 @@
+#include "pf2/slam/slam_options.h"
+
+namespace pf2 {
+
+DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
+  DualBBoxFilter::Options options;
+  options.use_mask = true;
+  options.temporal = true;
+  return options;
+}
+
+void applyConfig(const ConfigFile& config, SlamOptions* options) {
+  SlamOptions& o = *options;
+  o.detector = config.text("detector.name", o.detector);
+  o.detection.gt.provide_mask = config.boolean("detector.gt_masks", o.detection.gt.provide_mask);
+  o.detection.gt.degradation.shrink = config.number("detector.gt_shrink", o.detection.gt.degradation.shrink);
+  o.detection.gt.degradation.drop_probability =
+      config.number("detector.gt_drop", o.detection.gt.degradation.drop_probability);
+
+  DualBBoxFilter::Options& f = o.filter;
+  f.min_confidence = config.number("filter.min_confidence", f.min_confidence);
+  f.box_scale = config.number("filter.box_scale", f.box_scale);
+  f.background_margin = config.number("filter.background_margin", f.background_margin);
+  f.human_margin = config.number("filter.human_margin", f.human_margin);
+  f.use_mask = config.boolean("filter.use_mask", f.use_mask);
+  f.mask_dilation = config.integer("filter.mask_dilation", f.mask_dilation);
+  f.temporal = config.boolean("filter.temporal", f.temporal);
+
+  Tracker::Options& t = o.tracker;
+  t.odometry.pyramid_levels = config.integer("tracker.pyramid_levels", t.odometry.pyramid_levels);
+  t.odometry.finest_level = config.integer("tracker.finest_level", t.odometry.finest_level);
+  t.odometry.photometric_weight = config.number("tracker.photometric_weight", t.odometry.photometric_weight);
+  t.odometry.features_every_frame =
+      config.boolean("tracker.features_every_frame", t.odometry.features_every_frame);
+  t.keyframes.max_translation = config.number("tracker.keyframe_translation", t.keyframes.max_translation);
+  t.keyframes.max_rotation = config.number("tracker.keyframe_rotation", t.keyframes.max_rotation);
+  t.asynchronous_backend = config.boolean("tracker.asynchronous_backend", t.asynchronous_backend);
+
+  Mapper::Options& m = o.mapper;
+  o.build_map = config.boolean("map.build", o.build_map);
+  m.tsdf.voxel_size = config.number("map.voxel_size", m.tsdf.voxel_size);
+  m.tsdf.truncation = config.number("map.truncation", m.tsdf.truncation);
+  m.tsdf.max_depth = config.number("map.max_depth", m.tsdf.max_depth);
+  m.build_occupancy = config.boolean("map.octomap", m.build_occupancy);
+  m.occupancy.resolution = config.number("map.octomap_resolution", m.occupancy.resolution);
+  m.max_stored_keyframes = config.integer("map.max_stored_keyframes", m.max_stored_keyframes);
+  m.keep_radius = config.number("map.keep_radius", m.keep_radius);
+  o.map_files.points_pcd = config.boolean("map.pcd", o.map_files.points_pcd);
+
+  o.max_frames = config.integer("run.max_frames", o.max_frames);
+  o.prefetch_frames = config.integer("run.prefetch_frames", o.prefetch_frames);
+  o.progress = config.boolean("run.progress", o.progress);
+  config.checkAllUsed();
+}
+
+}  // namespace pf2

@@ -1,0 +1,290 @@
+#include "pf2/slam/slam_system.h"
+
+#include <sys/stat.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include "pf2/core/atomic_file.h"
+#include "pf2/core/error.h"
+#include "pf2/io/trajectory_io.h"
+
+namespace pf2 {
+
+namespace {
+
+bool isFile(const std::string& path) {
+  struct stat info;
+  return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
+}
+
+void makeDirectory(const std::string& path) {
+  struct stat info;
+  if (::stat(path.c_str(), &info) == 0) {
+    if (!S_ISDIR(info.st_mode)) throw fileError(path, "output path exists and is not a directory");
+    return;
+  }
+  if (::mkdir(path.c_str(), 0755) != 0) throw fileError(path, "cannot create output directory");
+}
+
+// A bounded queue between two threads; close() ends it (pop returns nullopt once drained).
+template <typename T>
+class WorkQueue {
+ public:
+  explicit WorkQueue(size_t capacity) : capacity_(std::max<size_t>(1, capacity)) {}
+  void push(T item) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    not_full_.wait(lock, [&] { return items_.size() < capacity_ || closed_; });
+    if (closed_) return;
+    items_.push_back(std::move(item));
+    not_empty_.notify_one();
+  }
+  std::optional<T> pop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    not_empty_.wait(lock, [&] { return !items_.empty() || closed_; });
+    if (items_.empty()) return std::nullopt;
+    T item = std::move(items_.front());
+    items_.pop_front();
+    not_full_.notify_one();
+    return item;
+  }
+  void close() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closed_ = true;
+    not_empty_.notify_all();
+    not_full_.notify_all();
+  }
+
+ private:
+  const size_t capacity_;
+  std::mutex mutex_;
+  std::condition_variable not_empty_, not_full_;
+  std::deque<T> items_;
+  bool closed_ = false;
+};
+
+// Decodes frames ahead of the front end; an exception is handed over with the frame it hit.
+struct LoadedFrame {
+  Frame frame;
+  std::exception_ptr error;
+};
+
+struct KeyframeJob {
+  int id;
+  cv::Mat static_depth;
+  cv::Mat rgb;
+  CameraIntrinsics K;
+  Eigen::Isometry3d T_w_c;
+};
+
+// What the front end remembers of each frame to write the loop-corrected trajectory at the end.
+struct FrameRecord {
+  double timestamp;
+  bool has_pose;
+  int keyframe_id;
+  Eigen::Isometry3d T_k_c;
+};
+
+std::unique_ptr<HumanDetector> makeDetector(const SlamOptions& options,
+                                            const std::string& sequence_folder,
+                                            std::string* chosen) {
+  DetectorOptions detection = options.detection;
+  const std::string gt_folder = sequence_folder.empty() ? "" : sequence_folder + "/gt";
+  if (detection.gt.gt_folder.empty()) detection.gt.gt_folder = gt_folder;
+  std::string name = options.detector;
+  if (name == "none") {
+    *chosen = "none";
+    return nullptr;
+  }
+  if (name == "auto") {
+    if (!gt_folder.empty() && isFile(gt_folder + "/boxes.txt")) {
+      name = "gt";
+    } else {
+      try {
+        *chosen = "learned";
+        return createHumanDetector("learned", detection);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "pf2_slam: learned detector unavailable (%s); using hog\n", e.what());
+        name = "hog";
+      }
+    }
+  }
+  *chosen = name;
+  return createHumanDetector(name, detection);
+}
+
+std::string summaryJson(const SlamRunSummary& s, const StageStats& stages,
+                        const StageStats& tracker_stages) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "{\"frames\":" << s.frames << ",\"tracked\":" << s.tracked << ",\"lost\":" << s.lost
+      << ",\"relocalised\":" << s.relocalised << ",\"keyframes\":" << s.keyframes
+      << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
+      << "\",\"stages\":" << stages.toJson() << ",\"tracker_stages\":" << tracker_stages.toJson()
+      << "}\n";
+  return out.str();
+}
+
+}  // namespace
+
+SlamSystem::SlamSystem(const SlamOptions& options) : options_(options) {}
+SlamSystem::~SlamSystem() = default;
+
+SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& sequence_folder,
+                               const std::string& out_dir) {
+  makeDirectory(out_dir);
+  SlamRunSummary summary;
+  std::unique_ptr<HumanDetector> detector = makeDetector(options_, sequence_folder, &summary.detector);
+  DualBBoxFilter filter(options_.filter);
+  Tracker tracker(options_.tracker);
+  Mapper mapper(options_.mapper);
+
+  size_t frame_count = source.size();
+  if (options_.max_frames > 0) frame_count = std::min<size_t>(frame_count, options_.max_frames);
+  if (frame_count == 0) throw Error("the sequence has no frames: " + source.description());
+
+  // Loader thread: decoding overlaps the front end's work.
+  WorkQueue<LoadedFrame> loaded(options_.prefetch_frames);
+  std::thread loader([&] {
+    for (size_t i = 0; i < frame_count; ++i) {
+      LoadedFrame item;
+      try {
+        ScopedStageTimer timer(&stats_, "load");
+        item.frame = source.frame(i);
+      } catch (...) {
+        item.error = std::current_exception();
+      }
+      const bool failed = static_cast<bool>(item.error);
+      loaded.push(std::move(item));
+      if (failed) break;
+    }
+    loaded.close();
+  });
+
+  // Mapper thread: fuses keyframes and follows the pose graph's corrections.
+  WorkQueue<KeyframeJob> keyframe_jobs(64);
+  std::exception_ptr mapper_error;
+  std::thread mapping;
+  if (options_.build_map) {
+    mapping = std::thread([&] {
+      uint64_t revision_seen = 0;
+      try {
+        while (auto job = keyframe_jobs.pop()) {
+          ScopedStageTimer timer(&stats_, "map");
+          mapper.addKeyframe(job->id, job->static_depth, job->rgb, job->K, job->T_w_c);
+          const uint64_t revision = tracker.keyframes().revision();
+          if (revision != revision_seen) {
+            revision_seen = revision;
+            mapper.updateKeyframePoses(tracker.keyframes().poses());
+          }
+        }
+      } catch (...) {
+        mapper_error = std::current_exception();
+        while (keyframe_jobs.pop()) {
+        }
+      }
+    });
+  }
+  const auto stop_threads = [&] {
+    loaded.close();
+    keyframe_jobs.close();
+    if (loader.joinable()) loader.join();
+    if (mapping.joinable()) mapping.join();
+  };
+
+  std::vector<FrameRecord> records;
+  const auto start = std::chrono::steady_clock::now();
+  Eigen::Isometry3d T_w_prev = Eigen::Isometry3d::Identity(), T_w_prevprev = T_w_prev;
+  int poses_in_row = 0;
+  try {
+    while (auto item = loaded.pop()) {
+      if (item->error) std::rethrow_exception(item->error);
+      const Frame& frame = item->frame;
+      ScopedStageTimer frame_timer(&stats_, "frame");
+      Frame static_frame = frame;
+      cv::Mat person_mask;
+      if (detector) {
+        Detections detections;
+        {
+          ScopedStageTimer timer(&stats_, "detect");
+          detections = detector->detect(frame);
+        }
+        ScopedStageTimer timer(&stats_, "filter");
+        filter.setIntrinsics(frame.intrinsics);
+        // Constant-velocity guess of this frame's motion, for the temporal guard.
+        const Eigen::Isometry3d T_cur_prev =
+            poses_in_row >= 2 ? T_w_prev.inverse() * T_w_prevprev : Eigen::Isometry3d::Identity();
+        DualBBoxFilter::Result filtered = filter.filter(frame.depth, detections, T_cur_prev);
+        static_frame.depth = filtered.static_depth;
+        person_mask = filtered.removed;
+      }
+      TrackResult result;
+      {
+        ScopedStageTimer timer(&stats_, "track");
+        result = tracker.track(static_frame, person_mask);
+      }
+      FrameRecord record{frame.timestamp, result.status != TrackStatus::kLost, result.keyframe_id,
+                         Eigen::Isometry3d::Identity()};
+      if (record.has_pose) {
+        record.T_k_c = tracker.keyframes().pose(result.keyframe_id).inverse() * result.T_w_c;
+        T_w_prevprev = T_w_prev;
+        T_w_prev = result.T_w_c;
+        ++poses_in_row;
+        ++summary.tracked;
+      } else {
+        poses_in_row = 0;
+        ++summary.lost;
+      }
+      if (result.status == TrackStatus::kRelocalised) ++summary.relocalised;
+      if (result.keyframe_created && options_.build_map) {
+        keyframe_jobs.push({result.keyframe_id, static_frame.depth, frame.rgb, frame.intrinsics,
+                            result.T_w_c});
+      }
+      records.push_back(record);
+      ++summary.frames;
+      if (options_.progress && (summary.frames % 30 == 0 || summary.frames == (int)frame_count)) {
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::fprintf(stderr, "\rframe %d/%zu  %.1f fps  lost %d  keyframes %zu   ", summary.frames,
+                     frame_count, summary.frames / elapsed, summary.lost, tracker.keyframes().size());
+      }
+    }
+    summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    tracker.finish();
+  } catch (...) {
+    stop_threads();
+    throw;
+  }
+  stop_threads();
+  if (options_.progress) std::fprintf(stderr, "\n");
+  if (mapper_error) std::rethrow_exception(mapper_error);
+
+  summary.keyframes = static_cast<int>(tracker.keyframes().size());
+  summary.fps = summary.seconds > 0 ? summary.frames / summary.seconds : 0.0;
+
+  // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
+  trajectory_.clear();
+  const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker.keyframes().poses();
+  for (const FrameRecord& record : records) {
+    if (!record.has_pose) continue;
+    trajectory_.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
+  }
+  writeTrajectory(out_dir + "/trajectory.txt", trajectory_);
+  if (options_.build_map) {
+    ScopedStageTimer timer(&stats_, "map_export");
+    mapper.updateKeyframePoses(keyframe_poses);
+    mapper.exportMap(out_dir, options_.map_files);
+  }
+  const std::string json = summaryJson(summary, stats_, tracker.stats());
+  writeFileAtomically(out_dir + "/stats.json", [&](std::ostream& out) { out << json; });
+  return summary;
+}
+
+}  // namespace pf2
