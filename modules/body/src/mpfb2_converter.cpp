@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "pf2/body/body_model.h"
@@ -280,6 +282,65 @@ Eigen::VectorXd solveNnls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
   return x;
 }
 
+
+// Re-poses the rest shape (rows: 3V vertices, then 3 per joint) and its shape directions with
+// linear blend skinning so that the arms point along +-x and the legs along -y (SMPL's T pose):
+// each limb joint gets the smallest rotation taking its bone onto that axis; joints without such
+// a target keep their parent's orientation. Exact for the directions because LBS with fixed
+// rotations is linear in the vertices and joints.
+void poseIntoTPose(int V, const Eigen::MatrixXd& weights, Eigen::VectorXd* shape, Eigen::MatrixXd* dirs) {
+  struct Bone {
+    int joint, child;
+    Eigen::Vector3d axis;
+  };
+  const std::array<Bone, 10> bones = {{{16, 18, Eigen::Vector3d::UnitX()},
+                                       {18, 20, Eigen::Vector3d::UnitX()},
+                                       {20, 22, Eigen::Vector3d::UnitX()},
+                                       {17, 19, -Eigen::Vector3d::UnitX()},
+                                       {19, 21, -Eigen::Vector3d::UnitX()},
+                                       {21, 23, -Eigen::Vector3d::UnitX()},
+                                       {1, 4, -Eigen::Vector3d::UnitY()},
+                                       {2, 5, -Eigen::Vector3d::UnitY()},
+                                       {4, 7, -Eigen::Vector3d::UnitY()},
+                                       {5, 8, -Eigen::Vector3d::UnitY()}}};
+  auto joint = [&](const Eigen::VectorXd& x, int j) { return Eigen::Vector3d(x.segment<3>(3 * V + 3 * j)); };
+  std::array<Eigen::Matrix3d, kBodyJointCount> G;
+  for (int j = 0; j < kBodyJointCount; ++j) {
+    G[j] = j == 0 ? Eigen::Matrix3d::Identity() : G[kBodyJointParents[j]];
+    for (const Bone& bone : bones) {
+      if (bone.joint == j) {
+        const Eigen::Vector3d d = joint(*shape, bone.child) - joint(*shape, j);
+        G[j] = Eigen::Quaterniond::FromTwoVectors(d, bone.axis).toRotationMatrix();
+      }
+    }
+  }
+  // Posed joints (and their shape derivatives): J'_j = J'_p + G_p (J_j - J_p).
+  auto poseJoints = [&](const Eigen::VectorXd& x) {
+    std::array<Eigen::Vector3d, kBodyJointCount> posed;
+    for (int j = 0; j < kBodyJointCount; ++j) {
+      const int p = kBodyJointParents[j];
+      posed[j] = p < 0 ? joint(x, j) : Eigen::Vector3d(posed[p] + G[p] * (joint(x, j) - joint(x, p)));
+    }
+    return posed;
+  };
+  // One column (the shape, or a direction): v' = sum_j w_j (G_j (v - J_j) + J'_j).
+  auto poseColumn = [&](const Eigen::VectorXd& x) {
+    const auto posed = poseJoints(x);
+    Eigen::VectorXd out(x.size());
+    for (int v = 0; v < V; ++v) {
+      Eigen::Vector3d p = Eigen::Vector3d::Zero();
+      for (int j = 0; j < kBodyJointCount; ++j) {
+        if (weights(v, j) > 0) p += weights(v, j) * (G[j] * (x.segment<3>(3 * v) - joint(x, j)) + posed[j]);
+      }
+      out.segment<3>(3 * v) = p;
+    }
+    for (int j = 0; j < kBodyJointCount; ++j) out.segment<3>(3 * V + 3 * j) = posed[j];
+    return out;
+  };
+  *shape = poseColumn(*shape);
+  for (Eigen::Index k = 0; k < dirs->cols(); ++k) dirs->col(k) = poseColumn(dirs->col(k));
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, NpyArray>> Mpfb2Converter::convert(const std::string& source_dir,
@@ -412,6 +473,49 @@ std::vector<std::pair<std::string, NpyArray>> Mpfb2Converter::convert(const std:
   const Eigen::Vector3d origin = mean_shape.segment<3>(3 * V);
   for (int r = 0; r < rows; r += 3) mean_shape.segment<3>(r) -= origin;
 
+  // Skinning weights folded onto the SMPL segments.
+  const Json weights_json = readJson(weights_path);
+  Eigen::MatrixXd weights = Eigen::MatrixXd::Zero(V, kBodyJointCount);
+  for (const auto& [bone, entries] : weights_json.at("weights").items()) {
+    const int segment = segmentOfBone(bone);
+    if (segment < 0) throw fileError(weights_path, "bone '" + bone + "' has no SMPL segment");
+    for (const auto& entry : entries) {
+      const int i = entry.at(0).get<int>();
+      if (i < 0 || i >= all_vertices) throw fileError(weights_path, "vertex index beyond the mesh");
+      if (new_index[i] >= 0) weights(new_index[i], segment) += entry.at(1).get<double>();
+    }
+  }
+  // A few vertices carry stray weights (< 1 %) on the other side's limb (e.g. right toes on
+  // ball_l); they would make the right foot twitch when the left leg moves, so they are dropped.
+  int stray_fixed = 0;
+  for (int v = 0; v < V; ++v) {
+    double sum = weights.row(v).sum();
+    if (!(sum > 0.0)) throw fileError(weights_path, "body vertex " + std::to_string(old_index[v]) + " has no weight");
+    const double x = mean_shape[3 * v];
+    if (std::abs(x) > 0.01) {
+      double stray = 0.0;
+      for (int j = 0; j < kBodyJointCount; ++j) {
+        const bool left_joint = std::strncmp(kBodyJointNames[j], "left_", 5) == 0;
+        const bool right_joint = std::strncmp(kBodyJointNames[j], "right_", 6) == 0;
+        if ((x > 0 && right_joint) || (x < 0 && left_joint)) stray += weights(v, j);
+      }
+      if (stray > 0.0 && stray < 0.01 * sum) {
+        for (int j = 0; j < kBodyJointCount; ++j) {
+          const bool left_joint = std::strncmp(kBodyJointNames[j], "left_", 5) == 0;
+          const bool right_joint = std::strncmp(kBodyJointNames[j], "right_", 6) == 0;
+          if ((x > 0 && right_joint) || (x < 0 && left_joint)) weights(v, j) = 0.0;
+        }
+        sum = weights.row(v).sum();
+        ++stray_fixed;
+      }
+    }
+    weights.row(v) /= sum;
+  }
+
+  // SMPL's rest pose is a T pose; MakeHuman's is an A pose with legs apart. Re-pose limbs so
+  // that zero rotations mean the same posture as in SMPL.
+  poseIntoTPose(V, weights, &mean_shape, &dirs);
+
   // Joint regressor: non-negative weights over nearby body vertices whose weighted mean follows
   // the joint cube over the mean shape and each direction at +-regressor_shape_scale sigma.
   Eigen::MatrixXf regressor = Eigen::MatrixXf::Zero(kBodyJointCount, V);
@@ -465,24 +569,6 @@ std::vector<std::pair<std::string, NpyArray>> Mpfb2Converter::convert(const std:
               << (r.array() > 0).count() << " used, max error " << error * 1000.0 << " mm\n";
   }
 
-  // Skinning weights folded onto the SMPL segments.
-  const Json weights_json = readJson(weights_path);
-  Eigen::MatrixXd weights = Eigen::MatrixXd::Zero(V, kBodyJointCount);
-  for (const auto& [bone, entries] : weights_json.at("weights").items()) {
-    const int segment = segmentOfBone(bone);
-    if (segment < 0) throw fileError(weights_path, "bone '" + bone + "' has no SMPL segment");
-    for (const auto& entry : entries) {
-      const int i = entry.at(0).get<int>();
-      if (i < 0 || i >= all_vertices) throw fileError(weights_path, "vertex index beyond the mesh");
-      if (new_index[i] >= 0) weights(new_index[i], segment) += entry.at(1).get<double>();
-    }
-  }
-  for (int v = 0; v < V; ++v) {
-    const double sum = weights.row(v).sum();
-    if (!(sum > 0.0)) throw fileError(weights_path, "body vertex " + std::to_string(old_index[v]) + " has no weight");
-    weights.row(v) /= sum;
-  }
-
   // Triangles (a b c, a c d, ...) oriented so that the enclosed signed volume is positive.
   std::vector<std::int32_t> faces;
   for (const auto& face : body_faces) {
@@ -530,6 +616,7 @@ std::vector<std::pair<std::string, NpyArray>> Mpfb2Converter::convert(const std:
     report->max_joint_error = max_joint_error;
     std::ostringstream text;
     text << V << " vertices, " << F << " triangles, " << T << " macro targets, " << N << " slider samples\n"
+         << stray_fixed << " vertices had stray weights (< 1 %) on the other side's limbs, dropped\n"
          << "explained variance of the " << K << " shape directions:";
     double cumulative = 0.0;
     for (const double e : explained) {
