@@ -248,12 +248,14 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
       } else {
         const double kind = rng.uniform(0, 1);
         Eigen::Vector2d target;
-        if (kind < 0.3) {  // close in front of the camera
+        if (kind < 0.25) {  // close in front of the camera
           target = Eigen::Vector2d(rng.uniform(2.3, 3.7), rng.uniform(area[1], area[1] + 0.35));
-        } else if (kind < 0.6) {  // out of view at the sides
+        } else if (kind < 0.45) {  // out of view at the sides
           target = Eigen::Vector2d(rng.uniform(0, 1) < 0.5 ? rng.uniform(area[0], area[0] + 0.4)
                                                             : rng.uniform(area[2] - 0.4, area[2]),
                                    rng.uniform(area[1], area[1] + 1.0));
+        } else if (kind < 0.8) {  // across the middle of the view
+          target = Eigen::Vector2d(rng.uniform(1.8, 4.2), rng.uniform(area[1] + 0.5, area[3]));
         } else {
           target = randomPoint(&rng);
         }

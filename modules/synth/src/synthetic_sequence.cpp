@@ -51,7 +51,7 @@ void motionBlur(const cv::Mat& bgr, const cv::Mat& depth, const cv::Mat& labels,
                 const std::vector<Eigen::Vector3d>& person_shift_begin,
                 const std::vector<Eigen::Vector3d>& person_shift_end, cv::Mat* blurred_bgr,
                 cv::Mat* mixed_depth) {
-  constexpr int kSamples = 7;
+  constexpr int kSamples = 9;
   const Eigen::Isometry3d T_begin_c = T_w_c_begin.inverse() * T_w_c;
   const Eigen::Isometry3d T_end_c = T_w_c_end.inverse() * T_w_c;
   const Eigen::Matrix3d R_w_c = T_w_c.linear();
@@ -80,11 +80,16 @@ void motionBlur(const cv::Mat& bgr, const cv::Mat& depth, const cv::Mat& labels,
       int count = 0, depth_count = 0;
       for (int k = 0; k < kSamples; ++k) {
         const Eigen::Vector2d q = pa + (pb - pa) * (k / (kSamples - 1.0));
-        const int x = static_cast<int>(std::lround(q.x())), y = static_cast<int>(std::lround(q.y()));
-        if (x < 0 || y < 0 || x >= bgr.cols || y >= bgr.rows) continue;
-        sum += cv::Vec3f(bgr.at<cv::Vec3b>(y, x));
+        if (q.x() < 0.0 || q.y() < 0.0 || q.x() > bgr.cols - 1.0 || q.y() > bgr.rows - 1.0) continue;
+        // Colour: bilinear, so that the smear is smooth; depth: nearest pixel, as a sensor mixes.
+        const int x0 = std::min(static_cast<int>(q.x()), bgr.cols - 2), y0 = std::min(static_cast<int>(q.y()), bgr.rows - 2);
+        const float fx = static_cast<float>(q.x() - x0), fy = static_cast<float>(q.y() - y0);
+        sum += (1 - fx) * (1 - fy) * cv::Vec3f(bgr.at<cv::Vec3b>(y0, x0)) +
+               fx * (1 - fy) * cv::Vec3f(bgr.at<cv::Vec3b>(y0, x0 + 1)) +
+               (1 - fx) * fy * cv::Vec3f(bgr.at<cv::Vec3b>(y0 + 1, x0)) +
+               fx * fy * cv::Vec3f(bgr.at<cv::Vec3b>(y0 + 1, x0 + 1));
         ++count;
-        const float zs = depth.at<float>(y, x);
+        const float zs = depth.at<float>(static_cast<int>(std::lround(q.y())), static_cast<int>(std::lround(q.x())));
         if (zs > 0.0f) {
           z_min = std::min(z_min, zs);
           z_max = std::max(z_max, zs);
@@ -92,7 +97,7 @@ void motionBlur(const cv::Mat& bgr, const cv::Mat& depth, const cv::Mat& labels,
           ++depth_count;
         }
       }
-      if (count > 0) blurred_bgr->at<cv::Vec3b>(v, u) = cv::Vec3b(sum / static_cast<float>(count));
+      if (count > 0) blurred_bgr->at<cv::Vec3b>(v, u) = cv::Vec3b(sum / static_cast<float>(count) + cv::Vec3f(0.5f, 0.5f, 0.5f));
       if (depth_count > 0 && z_max - z_min > 0.05f * z) mixed_depth->at<float>(v, u) = z_sum / depth_count;
     }
   }

@@ -62,7 +62,7 @@ class SyntheticSequence : public FrameSource {
     CameraMotion camera = CameraMotion::kXyz;
     CameraIntrinsics intrinsics = CameraIntrinsics::tumFreiburg3();
     bool motion_blur = false;               // colour blurred along the image motion, depth mixed at edges
-    double exposure = 0.02;                 // exposure time for the blur, seconds
+    double exposure = 1.0 / 30.0;           // exposure time for the blur, seconds (<= 1 / fps)
     double texels_per_metre = 128;          // scene texture resolution
     DepthSensorModel::Options sensor;       // noise on/off, range, misalignment
     Rasterizer::Options rasterizer;         // lighting, threads

@@ -1,0 +1,259 @@
+#include "pf2/synth/synthetic_sequence.h"
+
+#include <sys/stat.h>
+
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "mesh_distance.h"
+#include "pf2/core/error.h"
+#include "pf2/io/tum_sequence.h"
+
+namespace pf2 {
+namespace {
+
+// Small and fast: 320 x 240, exact depth unless a test asks for noise.
+SyntheticSequence::Options smallOptions(int frames, int people) {
+  SyntheticSequence::Options options;
+  options.frames = frames;
+  options.people = people;
+  options.intrinsics = CameraIntrinsics::tumFreiburg3().scaled(0.5);
+  options.sensor.noise = false;
+  return options;
+}
+
+// All tests use seed 1: keep its scene alive so that it is built once.
+class KeepScene : public testing::Environment {
+ public:
+  void SetUp() override { sequence_ = std::make_unique<SyntheticSequence>(smallOptions(1, 0)); }
+  void TearDown() override { sequence_.reset(); }
+
+ private:
+  std::unique_ptr<SyntheticSequence> sequence_;
+};
+testing::Environment* const keep_scene = testing::AddGlobalTestEnvironment(new KeepScene);
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(SyntheticSequence, StaticPixelsBackProjectOntoTheSceneMesh) {
+  SyntheticSequence::Options options = smallOptions(90, 3);
+  options.camera = CameraMotion::kHalfsphere;
+  const SyntheticSequence sequence(options);
+  const test::MeshDistance scene(sequence.scene().mesh().vertices, sequence.scene().mesh().triangles);
+  for (const size_t i : {0, 45, 89}) {
+    FrameGroundTruth truth;
+    const Frame frame = sequence.frame(i, &truth);
+    std::vector<double> distances;
+    for (int v = 1; v < frame.depth.rows; v += 4) {
+      for (int u = 1; u < frame.depth.cols; u += 4) {
+        const float z = frame.depth.at<float>(v, u);
+        if (z == 0.0f || truth.labels.at<std::uint16_t>(v, u) != 0) continue;
+        const Eigen::Vector3d p_w = truth.T_w_c * frame.intrinsics.backProject(u, v, z);
+        distances.push_back(scene.distance(p_w));
+      }
+    }
+    ASSERT_GT(distances.size(), 2000u);
+    EXPECT_LT(test::median(distances), 0.002) << "frame " << i;
+    std::sort(distances.begin(), distances.end());
+    EXPECT_LT(distances[distances.size() * 95 / 100], 0.005) << "frame " << i;
+  }
+}
+
+TEST(SyntheticSequence, PersonPixelsBackProjectOntoTheirBody) {
+  const SyntheticSequence sequence(smallOptions(200, 3));
+  int people_checked = 0;
+  for (const size_t i : {0, 100, 199}) {
+    FrameGroundTruth truth;
+    const Frame frame = sequence.frame(i, &truth);
+    const std::vector<BodyMesh> bodies = sequence.bodies(i);
+    ASSERT_EQ(bodies.size(), 3u);
+    for (const PersonGroundTruth& person : truth.people) {
+      if (person.visible_pixels < 200) continue;
+      const BodyMesh& body = bodies[person.id - 1];
+      // Ground-truth joints are those of the mesh.
+      EXPECT_LT((body.joints[0] - person.pelvis_w).norm(), 1e-9);
+      const test::MeshDistance mesh(body.vertices, body.triangles);
+      std::vector<double> distances;
+      for (int v = person.box.y; v < person.box.y + person.box.height; v += 2) {
+        for (int u = person.box.x; u < person.box.x + person.box.width; u += 2) {
+          const float z = frame.depth.at<float>(v, u);
+          if (z == 0.0f || truth.labels.at<std::uint16_t>(v, u) != person.id) continue;
+          distances.push_back(mesh.distance(truth.T_w_c * frame.intrinsics.backProject(u, v, z)));
+        }
+      }
+      ASSERT_GT(distances.size(), 20u);
+      EXPECT_LT(test::median(distances), 0.002) << "frame " << i << " person " << person.id;
+      ++people_checked;
+    }
+  }
+  EXPECT_GE(people_checked, 2);
+}
+
+TEST(SyntheticSequence, GroundTruthBoxesAndFractionsMatchTheLabels) {
+  const SyntheticSequence sequence(smallOptions(300, 5));
+  int visible = 0, partly_hidden = 0;
+  for (size_t i = 0; i < 300; i += 30) {
+    FrameGroundTruth truth;
+    sequence.frame(i, &truth);
+    ASSERT_EQ(truth.people.size(), 5u);
+    std::map<int, int> counts;
+    for (int v = 0; v < truth.labels.rows; ++v) {
+      for (int u = 0; u < truth.labels.cols; ++u) {
+        const int id = truth.labels.at<std::uint16_t>(v, u);
+        ASSERT_LE(id, 5);
+        if (id == 0) continue;
+        ++counts[id];
+        ASSERT_TRUE(truth.people[id - 1].box.contains({u, v}));
+      }
+    }
+    for (const PersonGroundTruth& person : truth.people) {
+      EXPECT_EQ(person.visible_pixels, counts[person.id]);
+      EXPECT_GE(person.visible_fraction, 0.0);
+      EXPECT_LE(person.visible_fraction, 1.0);
+      if (person.visible_pixels == 0) {
+        EXPECT_TRUE(person.box.empty());
+        continue;
+      }
+      ++visible;
+      EXPECT_GT(person.visible_fraction, 0.0);
+      if (person.visible_fraction < 0.9) ++partly_hidden;
+      // Pelvis on the floor plan, at a standing or sitting height.
+      EXPECT_GT(person.pelvis_w.z(), 0.4);
+      EXPECT_LT(person.pelvis_w.z(), 1.3);
+    }
+  }
+  EXPECT_GT(visible, 10);
+  EXPECT_GT(partly_hidden, 0);
+}
+
+TEST(SyntheticSequence, PeopleMoveLeaveAndEnterTheView) {
+  const SyntheticSequence sequence(smallOptions(300, 3));
+  std::vector<bool> ever_visible(3, false), ever_hidden(3, false);
+  std::vector<Eigen::Vector3d> first(3);
+  double walked = 0.0;
+  for (size_t i = 0; i < 300; i += 10) {
+    FrameGroundTruth truth;
+    sequence.frame(i, &truth);
+    for (int k = 0; k < 3; ++k) {
+      const PersonGroundTruth& person = truth.people[k];
+      (person.visible_pixels > 0 ? ever_visible : ever_hidden)[k] = true;
+      if (i == 0) first[k] = person.pelvis_w;
+      walked = std::max(walked, (person.pelvis_w - first[k]).norm());
+    }
+  }
+  int comes_and_goes = 0;
+  for (int k = 0; k < 3; ++k) comes_and_goes += ever_visible[k] && ever_hidden[k];
+  EXPECT_GE(comes_and_goes, 1);
+  EXPECT_GT(walked, 1.0);
+}
+
+TEST(SyntheticSequence, WrittenFolderReadsBackAsTumSequence) {
+  SyntheticSequence::Options options = smallOptions(4, 2);
+  options.sensor.noise = true;
+  const SyntheticSequence sequence(options);
+  const std::string dir = testing::TempDir() + "pf2_synth_readback";
+  sequence.writeTumFolder(dir);
+  const TumSequence tum(dir);
+  ASSERT_EQ(tum.size(), 4u);
+  EXPECT_EQ(tum.intrinsics().width, 320);
+  EXPECT_DOUBLE_EQ(tum.intrinsics().fx, options.intrinsics.fx);
+  const Trajectory ground_truth = tum.groundTruth();
+  ASSERT_EQ(ground_truth.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    FrameGroundTruth truth;
+    const Frame expected = sequence.frame(i, &truth);
+    const Frame frame = tum.frame(i);
+    EXPECT_NEAR(frame.timestamp, expected.timestamp, 1e-6);
+    EXPECT_EQ(cv::norm(frame.rgb, expected.rgb, cv::NORM_INF), 0.0);
+    EXPECT_LE(cv::norm(frame.depth, expected.depth, cv::NORM_INF), 0.5 / 5000.0 + 1e-6);
+    EXPECT_LT((ground_truth[i].T_w_c.translation() - truth.T_w_c.translation()).norm(), 1e-6);
+    char stamp[64];
+    std::snprintf(stamp, sizeof(stamp), "%.6f", expected.timestamp);
+    const cv::Mat mask = cv::imread(dir + "/gt/masks/" + stamp + ".png", cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(mask.type(), CV_16UC1);
+    EXPECT_EQ(cv::norm(mask, truth.labels, cv::NORM_INF), 0.0);
+  }
+  // Every ground-truth file has a header and one line per person per frame (boxes: visible only).
+  for (const char* name : {"people.txt", "bodies.txt", "joints.txt"}) {
+    std::istringstream lines(readFile(dir + "/gt/" + name));
+    std::string line;
+    int rows = 0;
+    size_t columns = 0;
+    while (std::getline(lines, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::istringstream fields(line);
+      columns = std::distance(std::istream_iterator<std::string>(fields), std::istream_iterator<std::string>());
+      ++rows;
+    }
+    EXPECT_EQ(rows, 8) << name;
+    const size_t expected_columns = std::string(name) == "people.txt" ? 5 : std::string(name) == "bodies.txt" ? 2 + 3 + 72 + 10 : 2 + 72;
+    EXPECT_EQ(columns, expected_columns) << name;
+  }
+  const std::string ply = readFile(dir + "/gt/static_scene.ply");
+  EXPECT_EQ(ply.rfind("ply\nformat ascii 1.0", 0), 0u);
+  EXPECT_NE(readFile(dir + "/gt/README.md").find("boxes.txt"), std::string::npos);
+}
+
+TEST(SyntheticSequence, SameSeedSameBytesOtherSeedOtherScene) {
+  SyntheticSequence::Options options = smallOptions(3, 2);
+  options.sensor.noise = true;
+  const std::string a = testing::TempDir() + "pf2_synth_seed_a", b = testing::TempDir() + "pf2_synth_seed_b";
+  SyntheticSequence(options).writeTumFolder(a);
+  SyntheticSequence(options).writeTumFolder(b);
+  const TumSequence tum(a);
+  for (size_t i = 0; i < tum.size(); ++i) {
+    for (const std::string& file : {tum.files(i).rgb.file, tum.files(i).depth.file}) {
+      EXPECT_EQ(readFile(a + "/" + file), readFile(b + "/" + file)) << file;
+    }
+  }
+  for (const char* file : {"groundtruth.txt", "gt/boxes.txt", "gt/bodies.txt", "gt/static_scene.ply"}) {
+    EXPECT_EQ(readFile(a + "/" + file), readFile(b + "/" + file)) << file;
+  }
+  options.seed = 2;
+  const Frame other = SyntheticSequence(options).frame(0);
+  const Frame first = tum.frame(0);
+  EXPECT_GT(cv::norm(other.rgb, first.rgb, cv::NORM_L1) / other.rgb.total(), 5.0);
+}
+
+TEST(SyntheticSequence, MotionBlurSmearsColourWhenTheCameraMoves) {
+  SyntheticSequence::Options options = smallOptions(90, 0);
+  options.camera = CameraMotion::kRpy;
+  const SyntheticSequence sharp(options);
+  options.motion_blur = true;
+  const SyntheticSequence blurred(options);
+  // At t = 2 s the camera rolls fastest (0.7 rad/s); gradients get weaker under blur.
+  const auto gradient = [](const cv::Mat& bgr) {
+    cv::Mat gray, dx;
+    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+    cv::Sobel(gray, dx, CV_32F, 1, 0);
+    return cv::norm(dx, cv::NORM_L1);
+  };
+  EXPECT_LT(gradient(blurred.frame(60).rgb), 0.85 * gradient(sharp.frame(60).rgb));
+  // Standing still (t = 0) there is nothing to smear.
+  EXPECT_EQ(cv::norm(blurred.frame(0).rgb, sharp.frame(0).rgb, cv::NORM_INF), 0.0);
+}
+
+TEST(SyntheticSequence, RejectsBadOptions) {
+  SyntheticSequence::Options options = smallOptions(0, 0);
+  EXPECT_THROW(SyntheticSequence{options}, Error);
+  options = smallOptions(10, 6);
+  EXPECT_THROW(SyntheticSequence{options}, Error);
+  options = smallOptions(10, 0);
+  options.sensor.misalign_px = 200;
+  EXPECT_THROW(SyntheticSequence{options}, Error);
+  const SyntheticSequence sequence(smallOptions(2, 0));
+  EXPECT_THROW(sequence.frame(2), Error);
+  EXPECT_THROW(sequence.writeTumFolder("/proc/pf2_cannot_write_here"), Error);
+}
+
+}  // namespace
+}  // namespace pf2
