@@ -68,14 +68,22 @@ MoveNetDetector::Options moveNetOptions(const ExtraReader& r) {
 }  // namespace
 
 std::unique_ptr<HumanDetector> createSelfieDetector(const DetectorExtraOptions& extra) {
-  return std::make_unique<SelfieSegmenter>(selfieOptions(ExtraReader(extra)));
+  const ExtraReader r(extra);
+  SelfieSegmenter::Options o = selfieOptions(r);
+  r.text("model", &o.model_json);
+  return std::make_unique<SelfieSegmenter>(o);
 }
 
 std::unique_ptr<HumanDetector> createMoveNetDetector(const DetectorExtraOptions& extra) {
-  return std::make_unique<MoveNetDetector>(moveNetOptions(ExtraReader(extra)));
+  const ExtraReader r(extra);
+  MoveNetDetector::Options o = moveNetOptions(r);
+  r.text("model", &o.model_json);
+  return std::make_unique<MoveNetDetector>(o);
 }
 
 std::unique_ptr<HumanDetector> createLearnedDetector(const DetectorExtraOptions& extra) {
+  if (extra.count("model"))
+    throw Error("detector 'learned' uses two models: give selfie.model and movenet.model, not model");
   const ExtraReader r(extra);
   LearnedPersonDetector::Options o;
   o.selfie = selfieOptions(r);

@@ -185,6 +185,15 @@ TEST(LearnedDetectors, FactoryKnowsTheLearnedBackendsAndChecksTheirOptions) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(options.extra["selfie.model"]), std::string::npos) << e.what();
   }
+  DetectorOptions plain;  // "model" is the model of a one-model backend (pf2_detect --model)
+  plain.extra["model"] = testing::TempDir() + "pf2_no_such_model/movenet.json";
+  try {
+    createHumanDetector("movenet", plain);
+    ADD_FAILURE() << "missing model accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(plain.extra["model"]), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(createHumanDetector("learned", plain), Error);
   DetectorOptions typo;
   typo.extra["selfie.treshold"] = "0.4";
   EXPECT_THROW(createHumanDetector("selfie", typo), Error);

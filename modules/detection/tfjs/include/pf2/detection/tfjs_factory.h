@@ -1,6 +1,8 @@
 #pragma once
 // Builders the detector factory (modules/detection/src/detector_factory.cpp) calls for the learned
 // backends. Options come as "key" -> "value" text (DetectorOptions::extra); keys, all optional:
+//   model             for "selfie" and "movenet": the same as selfie.model / movenet.model
+//                     (an error for "learned", which has two models)
 //   selfie.model      path of selfie's model.json (default: humanModelPath("selfie"))
 //   selfie.threshold  mask probability threshold (0.5)
 //   selfie.min_area   smallest component, fraction of the image (0.01)
