@@ -35,13 +35,15 @@ class LoopDetector {
   explicit LoopDetector(const Options& options);
   ~LoopDetector();
 
-  // Adds a keyframe's descriptors (CV_8U ORB rows; empty is allowed and never matches). The index
-  // is rebuilt lazily at the next query. Thread safe.
+  // Adds a keyframe's descriptors (CV_8U ORB rows; empty is allowed and never matches). Ids must
+  // increase from call to call (throws pf2::Error otherwise). The index is rebuilt lazily at the
+  // next query. Thread safe.
   void add(int keyframe_id, const cv::Mat& descriptors);
   size_t size() const;
 
   // Up to max_candidates keyframes with id <= max_keyframe_id, most votes first. Thread safe
-  // (queries are serialised; a stale index is rebuilt first, which costs ~ms per 100 keyframes).
+  // (queries are serialised). The index holds the keyframes up to max_keyframe_id and is rebuilt
+  // when that set changed since the last query (a few ms per 100 keyframes).
   std::vector<Candidate> query(const cv::Mat& descriptors, int max_keyframe_id,
                                int max_candidates) const;
 
@@ -51,7 +53,7 @@ class LoopDetector {
   std::vector<int> ids_;             // keyframe id per stored image
   std::vector<cv::Mat> descriptors_;
   mutable std::unique_ptr<cv::DescriptorMatcher> matcher_;
-  mutable size_t indexed_ = 0;       // images in the built index
+  mutable size_t indexed_ = 0;       // images (a prefix of ids_) in the built index
   mutable std::vector<int> image_ids_;  // keyframe id per image of the built index
 };
 

@@ -1,0 +1,107 @@
+#include "pf2/registration/pose_graph_backend.h"
+
+#include <atomic>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "pf2/core/error.h"
+#include "pf2/core/pose.h"
+#include "rendered_scene.h"
+
+namespace pf2 {
+namespace {
+
+// The camera turns on the spot in the middle of the rendered room, 15 degrees per keyframe, a
+// full turn and three more keyframes that revisit the first three places (3 cm off). Odometry
+// edges are given with a known bias (0.46 degrees of yaw per keyframe, 12 degrees at the end), so
+// the only way back to the truth is loop closing.
+TEST(PoseGraphBackend, ClosesALoopFoundByAppearanceInItsOwnThread) {
+  const CameraIntrinsics k = CameraIntrinsics::tumFreiburg1().scaled(0.5);
+  const int n = 27;
+  std::vector<Eigen::Isometry3d> truth;
+  for (int i = 0; i < n; ++i) {
+    const double shift = i >= 24 ? 0.03 : 0.0;
+    truth.push_back(test::cameraPose(shift, -0.2, 0.75, 0.05, i * M_PI / 12.0, 0.0));
+  }
+  Eigen::Isometry3d bias = Eigen::Isometry3d::Identity();
+  bias.linear() = Eigen::AngleAxisd(0.008, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  bias.translation() = Eigen::Vector3d(0.003, 0.0, 0.002);
+
+  RgbdOdometry odometry;
+  KeyframeMap map;
+  LoopDetector loops;
+  PoseGraphBackend backend(PoseGraphBackend::Options(), &map, &loops);
+  std::atomic<int> callbacks{0};
+  backend.setCorrectionCallback(
+      [&](const std::map<int, Eigen::Isometry3d>& poses) {
+        if (poses.size() > 0) ++callbacks;
+      });
+  backend.start();
+
+  std::vector<Eigen::Isometry3d> drifted;
+  for (int i = 0; i < n; ++i) {
+    OdometryFrame frame = odometry.prepare(test::renderRoom(truth[i], k, i));
+    odometry.makeReference(&frame);
+    const Eigen::Isometry3d measured =
+        i == 0 ? Eigen::Isometry3d::Identity() : truth[i - 1].inverse() * truth[i] * bias;
+    drifted.push_back(i == 0 ? truth[0] : drifted.back() * measured);
+    const int id = map.add(makeKeyframe(frame), drifted.back());
+    ASSERT_EQ(id, i);
+    loops.add(id, frame.descriptors);
+    backend.addKeyframe(id, id - 1, measured);
+  }
+  backend.waitIdle();
+  backend.stop();
+  // The camera turns on the spot, so the drift is in orientation: RMS angle error, degrees.
+  auto rms = [&](const std::map<int, Eigen::Isometry3d>& poses) {
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double a = rotationAngle(poses.at(i).rotation().transpose() * truth[i].rotation());
+      sum += a * a;
+    }
+    return std::sqrt(sum / n) * 180.0 / M_PI;
+  };
+  std::map<int, Eigen::Isometry3d> before;
+  for (int i = 0; i < n; ++i) before[i] = drifted[i];
+  const std::vector<PoseGraphBackend::LoopClosure> closures = backend.loopClosures();
+  ASSERT_FALSE(closures.empty());
+  for (const auto& c : closures) {
+    // Each accepted loop joins views that really overlap (under 60 degrees apart), at least
+    // min_loop_gap keyframes apart, with the right relative pose.
+    const Eigen::Isometry3d expected = truth[c.from].inverse() * truth[c.to];
+    EXPECT_GE(c.to - c.from, PoseGraphBackend::Options().min_loop_gap);
+    EXPECT_LT(rotationAngle(expected.rotation()), M_PI / 3);
+    EXPECT_LT((c.T_from_to.translation() - expected.translation()).norm(), 0.005);
+    EXPECT_LT(rotationAngle((c.T_from_to.inverse() * expected).rotation()), 0.005);
+  }
+  EXPECT_GT(backend.optimisations(), 0);
+  EXPECT_EQ(callbacks.load(), backend.optimisations());
+  EXPECT_GT(map.revision(), 0u);
+  const double error_before = rms(before), error_after = rms(map.poses());
+  EXPECT_GT(error_before, 5.0);
+  EXPECT_LT(error_after, 0.1 * error_before);
+  std::printf("keyframe orientation RMS: %.3f deg before loop closing, %.3f deg after (%zu loops)\n",
+              error_before, error_after, closures.size());
+}
+
+TEST(KeyframeMap, CorrectionsCarryNewerKeyframesAlong) {
+  KeyframeMap map;
+  Keyframe k;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    T.translation() = Eigen::Vector3d(i, 0, 0);
+    EXPECT_EQ(map.add(k, T), i);
+  }
+  // The graph knew keyframes 0 and 1 and moved 1 by +0.5 m in y; 2 came later.
+  Eigen::Isometry3d moved = map.pose(1);
+  moved.translation().y() += 0.5;
+  map.updatePoses({{0, map.pose(0)}, {1, moved}});
+  EXPECT_NEAR(map.pose(2).translation().y(), 0.5, 1e-12);
+  EXPECT_NEAR(map.pose(2).translation().x(), 2.0, 1e-12);
+  EXPECT_EQ(map.revision(), 1u);
+  EXPECT_THROW(map.keyframe(3), Error);
+}
+
+}  // namespace
+}  // namespace pf2
