@@ -23,7 +23,9 @@ cv::Mat sanitized(const cv::Mat& depth) {
   for (int v = 0; v < depth.rows; ++v) {
     const float* in = depth.ptr<float>(v);
     float* o = out.ptr<float>(v);
-    for (int u = 0; u < depth.cols; ++u) o[u] = validDepth(in[u]) ? in[u] : 0.f;
+    // Comparisons with NaN are false, so this also clears NaN; written branch-free to vectorise.
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    for (int u = 0; u < depth.cols; ++u) o[u] = (in[u] > 0.f && in[u] < kInf) ? in[u] : 0.f;
   }
   return out;
 }
@@ -93,10 +95,11 @@ DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const
   std::vector<int> counts(bins, 0);
   const float inv_bin = static_cast<float>(1.0 / options.bin_width);
   const float max_depth = static_cast<float>(options.max_depth);
-  for (int v = r.y; v < r.y + r.height; ++v) {
+  const int stride = std::max(1, options.stride);
+  for (int v = r.y; v < r.y + r.height; v += stride) {
     const float* d = depth.ptr<float>(v);
     const uint8_t* m = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
-    for (int u = r.x; u < r.x + r.width; ++u) {
+    for (int u = r.x; u < r.x + r.width; u += stride) {
       if (m && !m[u]) continue;
       const float z = d[u];
       if (!(z > 0.f && z < max_depth)) continue;  // also rejects NaN
@@ -202,6 +205,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
 
   cv::Mat state = cv::Mat::zeros(size, CV_8U);
   std::vector<DepthInterval> intervals(boxes.size());
+  std::vector<cv::Rect> areas(boxes.size());  // where each person's pixels can be
   const float human_margin = static_cast<float>(o.human_margin);
   for (size_t t = 0; t < boxes.size(); ++t) {
     const Box& b = boxes[t];
@@ -213,6 +217,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     }
     const uint8_t label = static_cast<uint8_t>(t + 1);
     const DepthInterval& h = intervals[t];
+    areas[t] = b.rect;
     for (int v = b.rect.y; v < b.rect.y + b.rect.height; ++v) {
       const float* d = depth.ptr<float>(v);
       uint8_t* s = state.ptr<uint8_t>(v);
@@ -222,6 +227,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     }
     if (!b.mask.empty()) {
       const cv::Rect bounds = cv::boundingRect(b.mask);
+      areas[t] |= bounds;
       for (int v = bounds.y; v < bounds.y + bounds.height; ++v) {
         const float* d = depth.ptr<float>(v);
         const uint8_t* m = b.mask.ptr<uint8_t>(v);
@@ -313,10 +319,20 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     }
   }
 
-  // Outputs.
-  result.static_depth = depth.clone();
-  result.static_depth.setTo(0, state != kKept);
-  result.removed = (state != kKept) & (depth > 0);
+  // Outputs, in one pass over the image and one over each person's area.
+  result.static_depth.create(size, CV_32F);
+  result.removed.create(size, CV_8U);
+  for (int v = 0; v < size.height; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const uint8_t* s = state.ptr<uint8_t>(v);
+    float* out = result.static_depth.ptr<float>(v);
+    uint8_t* removed = result.removed.ptr<uint8_t>(v);
+    for (int u = 0; u < size.width; ++u) {
+      const bool kept = s[u] == kKept;
+      out[u] = kept ? d[u] : 0.f;
+      removed[u] = !kept && d[u] > 0.f ? 255 : 0;
+    }
+  }
   result.people.resize(boxes.size());
   for (size_t t = 0; t < boxes.size(); ++t) {
     Person& p = result.people[t];
@@ -325,9 +341,22 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     p.box = PersonBox{static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(r.x + r.width),
                       static_cast<float>(r.y + r.height)};
     p.interval = intervals[t];
-    p.mask = state == static_cast<uint8_t>(t + 1);
+    p.mask = cv::Mat::zeros(size, CV_8U);
     p.depth = cv::Mat::zeros(size, CV_32F);
-    depth.copyTo(p.depth, p.mask);
+    const uint8_t label = static_cast<uint8_t>(t + 1);
+    const cv::Rect& a = areas[t];
+    for (int v = a.y; v < a.y + a.height; ++v) {
+      const float* d = depth.ptr<float>(v);
+      const uint8_t* s = state.ptr<uint8_t>(v);
+      uint8_t* m = p.mask.ptr<uint8_t>(v);
+      float* pd = p.depth.ptr<float>(v);
+      for (int u = a.x; u < a.x + a.width; ++u) {
+        if (s[u] == label) {
+          m[u] = 255;
+          pd[u] = d[u];
+        }
+      }
+    }
   }
   if (o.temporal) {
     previous_depth_ = cv::Mat::zeros(size, CV_32F);
