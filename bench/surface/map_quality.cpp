@@ -28,7 +28,8 @@ int run(int argc, char** argv) {
   if (cli.helpRequested()) {
     std::printf(
         "usage: pf2_surface_map_quality [--frames N] [--people N] [--motion NAME] [--seed N] [--every K]\n"
-        "                               [--keep-people] [--dilate PX] [--no-noise] [--voxel M] [--out DIR]\n"
+        "                               [--keep-people] [--dilate PX] [--no-noise] [--voxel M] [--max-depth M]\n"
+        "                               [--out DIR]\n"
         "Fuses every K-th frame of a synthetic sequence at the ground-truth poses, people removed by the\n"
         "ground-truth masks (dilated by PX pixels), and scores the map against the static scene mesh.\n");
     return 0;
@@ -44,6 +45,8 @@ int run(int argc, char** argv) {
   sequence_options.sensor.noise = !cli.flag("--no-noise");
   pf2::Mapper::Options mapper_options;
   mapper_options.tsdf.voxel_size = cli.number("--voxel", 0.01);
+  mapper_options.tsdf.max_depth = cli.number("--max-depth", mapper_options.tsdf.max_depth);
+  mapper_options.occupancy.max_range = mapper_options.tsdf.max_depth;
   const std::string out = cli.value("--out", "");
   cli.positionals();
 
@@ -68,9 +71,11 @@ int run(int argc, char** argv) {
       removed_pixels += cv::countNonZero(people & (depth > 0));
       depth.setTo(0.f, people);
     }
-    // Seen static surface: the exact depth where no person stands in front of it.
+    // Seen static surface: the exact depth where the sensor measured within the map's depth range
+    // and no person stands in front of it.
     cv::Mat static_exact = truth.exact_depth.clone();
-    static_exact.setTo(0.f, truth.labels > 0);
+    static_exact.setTo(0.f, (truth.labels > 0) | (frame.depth < mapper_options.tsdf.min_depth) |
+                                (frame.depth > mapper_options.tsdf.max_depth));
     evaluator.markSeen(static_exact, frame.intrinsics, truth.T_w_c);
     const auto start = std::chrono::steady_clock::now();
     mapper.addKeyframe(static_cast<int>(i), depth, frame.rgb, frame.intrinsics, truth.T_w_c);

@@ -54,7 +54,7 @@ void BM_TsdfIntegrate(benchmark::State& state) {
   }
   state.counters["blocks"] = static_cast<double>(volume.blockCount());
 }
-BENCHMARK(BM_TsdfIntegrate)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TsdfIntegrate)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 // A fresh volume per frame: allocation of every touched block included.
 void BM_TsdfIntegrateFirstFrame(benchmark::State& state) {
@@ -69,7 +69,7 @@ void BM_TsdfIntegrateFirstFrame(benchmark::State& state) {
     state.ResumeTiming();
   }
 }
-BENCHMARK(BM_TsdfIntegrateFirstFrame)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TsdfIntegrateFirstFrame)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 // One keyframe moved: de-integrate at the old pose, integrate at the new one.
 void BM_TsdfReintegrate(benchmark::State& state) {
@@ -85,7 +85,7 @@ void BM_TsdfReintegrate(benchmark::State& state) {
     at_moved = !at_moved;
   }
 }
-BENCHMARK(BM_TsdfReintegrate)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TsdfReintegrate)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 void BM_ExtractMesh(benchmark::State& state) {
   const RoomFrames& f = RoomFrames::get();
@@ -100,7 +100,7 @@ void BM_ExtractMesh(benchmark::State& state) {
   state.counters["blocks"] = static_cast<double>(volume.blockCount());
   state.counters["vertices"] = static_cast<double>(vertices);
 }
-BENCHMARK(BM_ExtractMesh)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ExtractMesh)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 // OctoMap insertion of one 640x480 frame (every 4th pixel, 5 cm cells, 4 m rays).
 void BM_OccupancyInsert(benchmark::State& state) {
@@ -127,7 +127,7 @@ void BM_MapperAddKeyframe(benchmark::State& state) {
   }
   state.counters["stored_MB"] = static_cast<double>(mapper.memoryBytes()) / 1e6;
 }
-BENCHMARK(BM_MapperAddKeyframe)->Unit(benchmark::kMillisecond)->Iterations(48);
+BENCHMARK(BM_MapperAddKeyframe)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(48);
 
 }  // namespace
 }  // namespace pf2

@@ -29,7 +29,7 @@ class TsdfVolume {
     double voxel_size = 0.01;    // voxel edge, metres
     double truncation = 0.04;    // band half-width around the surface, metres
     double min_depth = 0.1;      // closer measurements are ignored, metres
-    double max_depth = 4.0;      // farther measurements are ignored (caps noise and memory), metres
+    double max_depth = 3.5;      // farther measurements are ignored (Kinect noise > 1.5 cm; memory), metres
     int allocation_stride = 2;   // every n-th pixel (both axes) allocates blocks, pixels
     int num_threads = 2;         // threads for the per-block voxel updates and meshing
     float mesh_min_weight = 1.f; // voxels with less weight are not meshed (observations)
