@@ -8,6 +8,83 @@
 #include "pf2/core/error.h"
 
 namespace pf2 {
+namespace {
+
+// The pixels a pose may claim: its box enlarged by box_margin of its size on each side.
+cv::Rect claimRect(const PersonDetection& pose, float box_margin, cv::Size image) {
+  const float mx = box_margin * pose.box.width(), my = box_margin * pose.box.height();
+  const cv::Point ul(cvFloor(pose.box.x_ul - mx), cvFloor(pose.box.y_ul - my));
+  const cv::Point lr(cvCeil(pose.box.x_lr + mx), cvCeil(pose.box.y_lr + my));
+  return cv::Rect(ul, lr) & cv::Rect(cv::Point(0, 0), image);
+}
+
+}  // namespace
+
+std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
+                                                 const std::vector<PersonDetection>& poses,
+                                                 const cv::Mat& probability,
+                                                 const LearnedPersonDetector::Options& options) {
+  std::vector<PersonDetection> people;
+  std::vector<cv::Rect> claims;
+  for (const PersonDetection& pose : poses) claims.push_back(claimRect(pose, options.box_margin, probability.size()));
+  std::vector<cv::Mat> pose_masks(poses.size());
+  for (cv::Mat& m : pose_masks) m = cv::Mat(probability.size(), CV_8U, cv::Scalar(0));
+
+  for (const PersonDetection& component : components) {
+    std::vector<size_t> owners;
+    for (size_t i = 0; i < poses.size(); ++i)
+      if (!claims[i].empty() && cv::countNonZero(component.mask(claims[i])) > 0) owners.push_back(i);
+    if (owners.empty()) {
+      people.push_back(component);
+      continue;
+    }
+    if (owners.size() == 1) {
+      pose_masks[owners[0]] |= component.mask;
+      continue;
+    }
+    // Shared component: each pixel to the owner with the nearest confident keypoint among those
+    // whose claim contains it (any owner if none does).
+    const int u0 = static_cast<int>(component.box.x_ul), u1 = static_cast<int>(component.box.x_lr);
+    for (int v = static_cast<int>(component.box.y_ul); v < static_cast<int>(component.box.y_lr); ++v) {
+      const uint8_t* in = component.mask.ptr<uint8_t>(v);
+      for (int u = u0; u < u1; ++u) {
+        if (!in[u]) continue;
+        size_t best = owners[0];
+        float best_d2 = std::numeric_limits<float>::max();
+        bool best_inside = false;
+        for (size_t i : owners) {
+          const bool inside = claims[i].contains(cv::Point(u, v));
+          if (best_inside && !inside) continue;
+          float d2 = std::numeric_limits<float>::max();
+          for (const Keypoint2d& k : poses[i].keypoints)
+            if (k.score >= options.keypoint_min_score)
+              d2 = std::min(d2, (k.u - u) * (k.u - u) + (k.v - v) * (k.v - v));
+          if ((inside && !best_inside) || d2 < best_d2) {
+            best = i;
+            best_d2 = d2;
+            best_inside = inside;
+          }
+        }
+        pose_masks[best].at<uint8_t>(v, u) = 255;
+      }
+    }
+  }
+
+  for (size_t i = 0; i < poses.size(); ++i) {
+    PersonDetection person = poses[i];
+    if (cv::countNonZero(pose_masks[i]) > 0) {
+      person.mask = pose_masks[i];
+      // The box must cover the mask the filter removes, and the body parts the mask missed.
+      const cv::Rect r = cv::boundingRect(pose_masks[i]);
+      person.box = {std::min(person.box.x_ul, static_cast<float>(r.x)), std::min(person.box.y_ul, static_cast<float>(r.y)),
+                    std::max(person.box.x_lr, static_cast<float>(r.x + r.width)),
+                    std::max(person.box.y_lr, static_cast<float>(r.y + r.height))};
+      person.score = static_cast<float>(cv::mean(probability, person.mask)[0]);
+    }
+    people.push_back(std::move(person));
+  }
+  return people;
+}
 
 LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(options) {
   if (options_.pose_every < 1) throw Error("learned detector: pose_every must be at least 1");
@@ -16,13 +93,6 @@ LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(
 }
 
 LearnedPersonDetector::~LearnedPersonDetector() = default;
-
-cv::Rect LearnedPersonDetector::claimRect(const PersonDetection& pose, cv::Size image) const {
-  const float mx = options_.box_margin * pose.box.width(), my = options_.box_margin * pose.box.height();
-  const cv::Point ul(cvFloor(pose.box.x_ul - mx), cvFloor(pose.box.y_ul - my));
-  const cv::Point lr(cvCeil(pose.box.x_lr + mx), cvCeil(pose.box.y_lr + my));
-  return cv::Rect(ul, lr) & cv::Rect(cv::Point(0, 0), image);
-}
 
 // Between MoveNet runs a person moves as the mask under its box moves: the shift that best aligns
 // the previous mask inside the box with the current mask (sum of squared differences, searched at
@@ -36,7 +106,7 @@ void LearnedPersonDetector::carryPoses(const cv::Mat& mask) {
   cv::resize(mask, now, cv::Size(), kScale, kScale, cv::INTER_AREA);
   cv::copyMakeBorder(now, padded, radius, radius, radius, radius, cv::BORDER_CONSTANT, cv::Scalar(0));
   for (PersonDetection& pose : poses_) {
-    const cv::Rect full = claimRect(pose, mask.size());
+    const cv::Rect full = claimRect(pose, options_.box_margin, mask.size());
     const cv::Rect r = cv::Rect(cvFloor(full.x * kScale), cvFloor(full.y * kScale), cvCeil(full.width * kScale),
                                 cvCeil(full.height * kScale)) & cv::Rect(cv::Point(0, 0), before.size());
     if (r.empty() || cv::countNonZero(before(r)) == 0) continue;
@@ -71,64 +141,7 @@ Detections LearnedPersonDetector::detect(const Frame& frame) {
 
   Detections result;
   result.timestamp = frame.timestamp;
-  std::vector<cv::Rect> claims;
-  for (const PersonDetection& pose : poses_) claims.push_back(claimRect(pose, mask.size()));
-  std::vector<cv::Mat> pose_masks(poses_.size());
-  for (cv::Mat& m : pose_masks) m = cv::Mat(mask.size(), CV_8U, cv::Scalar(0));
-
-  for (const PersonDetection& component : components) {
-    std::vector<size_t> owners;
-    for (size_t i = 0; i < poses_.size(); ++i)
-      if (cv::countNonZero(component.mask(claims[i])) > 0) owners.push_back(i);
-    if (owners.empty()) {
-      result.people.push_back(component);
-      continue;
-    }
-    if (owners.size() == 1) {
-      pose_masks[owners[0]] |= component.mask;
-      continue;
-    }
-    // Shared component: each pixel to the owner with the nearest confident keypoint among those
-    // whose claim contains it (any owner if none does).
-    const int u0 = static_cast<int>(component.box.x_ul), u1 = static_cast<int>(component.box.x_lr);
-    for (int v = static_cast<int>(component.box.y_ul); v < static_cast<int>(component.box.y_lr); ++v) {
-      const uint8_t* in = component.mask.ptr<uint8_t>(v);
-      for (int u = u0; u < u1; ++u) {
-        if (!in[u]) continue;
-        size_t best = owners[0];
-        float best_d2 = std::numeric_limits<float>::max();
-        bool best_inside = false;
-        for (size_t i : owners) {
-          const bool inside = claims[i].contains(cv::Point(u, v));
-          if (best_inside && !inside) continue;
-          float d2 = std::numeric_limits<float>::max();
-          for (const Keypoint2d& k : poses_[i].keypoints)
-            if (k.score >= options_.keypoint_min_score)
-              d2 = std::min(d2, (k.u - u) * (k.u - u) + (k.v - v) * (k.v - v));
-          if ((inside && !best_inside) || d2 < best_d2) {
-            best = i;
-            best_d2 = d2;
-            best_inside = inside;
-          }
-        }
-        pose_masks[best].at<uint8_t>(v, u) = 255;
-      }
-    }
-  }
-
-  for (size_t i = 0; i < poses_.size(); ++i) {
-    PersonDetection person = poses_[i];
-    if (cv::countNonZero(pose_masks[i]) > 0) {
-      person.mask = pose_masks[i];
-      // The box must cover the mask the filter removes, and the body parts the mask missed.
-      const cv::Rect r = cv::boundingRect(pose_masks[i]);
-      person.box = {std::min(person.box.x_ul, static_cast<float>(r.x)), std::min(person.box.y_ul, static_cast<float>(r.y)),
-                    std::max(person.box.x_lr, static_cast<float>(r.x + r.width)),
-                    std::max(person.box.y_lr, static_cast<float>(r.y + r.height))};
-      person.score = static_cast<float>(cv::mean(probability, person.mask)[0]);
-    }
-    result.people.push_back(std::move(person));
-  }
+  result.people = combineMasksAndPoses(components, poses_, probability, options_);
   return result;
 }
 

@@ -40,7 +40,6 @@ class LearnedPersonDetector : public HumanDetector {
 
  private:
   void carryPoses(const cv::Mat& mask);
-  cv::Rect claimRect(const PersonDetection& pose, cv::Size image) const;
 
   Options options_;
   std::unique_ptr<SelfieSegmenter> selfie_;
@@ -49,5 +48,13 @@ class LearnedPersonDetector : public HumanDetector {
   cv::Mat previous_mask_;               // selfie mask of the previous frame (CV_8U)
   long frames_ = 0;
 };
+
+// The merge step of LearnedPersonDetector, separate so it can be tested without models: gives the
+// selfie mask components (SelfieSegmenter::components) to the MoveNet poses as described above;
+// probability is the selfie probability image the components come from. Thread safe.
+std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
+                                                 const std::vector<PersonDetection>& poses,
+                                                 const cv::Mat& probability,
+                                                 const LearnedPersonDetector::Options& options);
 
 }  // namespace pf2

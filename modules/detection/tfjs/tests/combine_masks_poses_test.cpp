@@ -1,0 +1,77 @@
+// The merge step of the "learned" detector on hand-made masks and poses (no model needed).
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "pf2/detection/learned_person_detector.h"
+
+namespace pf2 {
+namespace {
+
+constexpr int kW = 200, kH = 100;
+
+PersonDetection component(const cv::Mat& mask) {
+  PersonDetection c;
+  c.mask = mask;
+  const cv::Rect r = cv::boundingRect(mask);
+  c.box = {static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(r.x + r.width),
+           static_cast<float>(r.y + r.height)};
+  c.score = 0.9f;
+  return c;
+}
+
+// A pose: box and a column of confident keypoints at u.
+PersonDetection pose(float x_ul, float x_lr, float u) {
+  PersonDetection p;
+  p.box = {x_ul, 10, x_lr, 90};
+  p.score = 0.4f;
+  for (int k = 0; k < 17; ++k) p.keypoints.push_back({u, 15.f + 4 * k, 0.8f});
+  return p;
+}
+
+TEST(CombineMasksAndPoses, SplitsASharedComponentByNearestKeypoint) {
+  // Two bodies (x 20..70 and 110..160) joined by a bridge: one selfie component.
+  cv::Mat mask(kH, kW, CV_8U, cv::Scalar(0));
+  cv::rectangle(mask, cv::Rect(20, 10, 50, 80), cv::Scalar(255), cv::FILLED);
+  cv::rectangle(mask, cv::Rect(110, 10, 50, 80), cv::Scalar(255), cv::FILLED);
+  cv::rectangle(mask, cv::Rect(70, 40, 40, 10), cv::Scalar(255), cv::FILLED);
+  const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.8));
+  LearnedPersonDetector::Options options;
+  options.box_margin = 0.5f;  // both claims reach into the bridge, so it is contested
+  const std::vector<PersonDetection> people =
+      combineMasksAndPoses({component(mask)}, {pose(20, 70, 45), pose(110, 160, 135)}, probability, options);
+  ASSERT_EQ(people.size(), 2u);
+  // Every mask pixel goes to exactly one person, split at the midpoint between the keypoints (u = 90).
+  EXPECT_EQ(cv::countNonZero(people[0].mask & people[1].mask), 0);
+  EXPECT_EQ(cv::countNonZero((people[0].mask | people[1].mask) != mask), 0);
+  EXPECT_EQ(cv::countNonZero(people[0].mask(cv::Rect(91, 0, kW - 91, kH))), 0);
+  EXPECT_EQ(cv::countNonZero(people[1].mask(cv::Rect(0, 0, 90, kH))), 0);
+  EXPECT_EQ(cv::countNonZero(people[0].mask), 50 * 80 + 21 * 10);
+  // Boxes cover the mask; keypoints are kept; score is the mean mask probability.
+  EXPECT_FLOAT_EQ(people[0].box.x_ul, 20.f);
+  EXPECT_FLOAT_EQ(people[0].box.x_lr, 91.f);
+  EXPECT_FLOAT_EQ(people[1].box.x_ul, 91.f);
+  EXPECT_FLOAT_EQ(people[1].box.x_lr, 160.f);
+  EXPECT_EQ(people[1].keypoints.size(), 17u);
+  EXPECT_NEAR(people[0].score, 0.8f, 1e-6f);
+}
+
+TEST(CombineMasksAndPoses, KeepsUnexplainedMasksAndMasklessPoses) {
+  cv::Mat mask(kH, kW, CV_8U, cv::Scalar(0));
+  cv::rectangle(mask, cv::Rect(20, 10, 30, 80), cv::Scalar(255), cv::FILLED);
+  const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.7));
+  const std::vector<PersonDetection> people = combineMasksAndPoses(
+      {component(mask)}, {pose(140, 180, 160)}, probability, LearnedPersonDetector::Options());
+  ASSERT_EQ(people.size(), 2u);
+  // The component no pose touches stays as it was, without keypoints.
+  EXPECT_TRUE(people[0].keypoints.empty());
+  EXPECT_EQ(cv::countNonZero(people[0].mask != mask), 0);
+  EXPECT_FLOAT_EQ(people[0].score, 0.9f);
+  // The pose over no mask stays a box with keypoints and its own score, without a mask.
+  EXPECT_TRUE(people[1].mask.empty());
+  EXPECT_EQ(people[1].keypoints.size(), 17u);
+  EXPECT_FLOAT_EQ(people[1].box.x_ul, 140.f);
+  EXPECT_FLOAT_EQ(people[1].score, 0.4f);
+}
+
+}  // namespace
+}  // namespace pf2
