@@ -1,13 +1,10 @@
 // pf2_body: the SMPL-compatible body model on the command line — build the default model from
 // the MPFB2 data, print a model's summary, export a posed mesh as PLY/OBJ.
-#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "pf2/body/body_mesh_io.h"
 #include "pf2/body/body_model.h"
@@ -111,34 +108,17 @@ int run(int argc, char** argv) {
                   joints[j].z());
     }
     // What each coefficient does at rest: stature and enclosed volume at -1 and +1.
-    auto measure = [&](const Eigen::VectorXd& shape, double* stature, double* volume) {
-      const Eigen::VectorXf v = model.restVertices(shape);
-      double top = -1e9, bottom = 1e9, sum = 0.0;
-      for (int i = 0; i < model.vertexCount(); ++i) {
-        top = std::max(top, static_cast<double>(v[3 * i + 1]));
-        bottom = std::min(bottom, static_cast<double>(v[3 * i + 1]));
-      }
-      for (const auto& t : model.triangles()) {
-        const Eigen::Vector3d a = v.segment<3>(3 * t[0]).cast<double>();
-        const Eigen::Vector3d b = v.segment<3>(3 * t[1]).cast<double>();
-        const Eigen::Vector3d c = v.segment<3>(3 * t[2]).cast<double>();
-        sum += a.dot(b.cross(c)) / 6.0;
-      }
-      *stature = top - bottom;
-      *volume = sum;
-    };
-    double stature = 0.0, volume = 0.0;
-    measure(Eigen::VectorXd::Zero(model.shapeCount()), &stature, &volume);
-    std::printf("rest stature %.4f m, volume %.4f m^3 (shape 0)\n", stature, volume);
+    const pf2::BodyMeasures rest = model.restMeasures(Eigen::VectorXd::Zero(model.shapeCount()));
+    std::printf("rest stature %.4f m, soles at y %.4f m, volume %.4f m^3 (shape 0)\n", rest.stature, rest.min_y,
+                rest.volume);
     for (int k = 0; k < model.shapeCount(); ++k) {
-      double s_minus = 0, v_minus = 0, s_plus = 0, v_plus = 0;
       Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.shapeCount());
       shape[k] = -1.0;
-      measure(shape, &s_minus, &v_minus);
+      const pf2::BodyMeasures minus = model.restMeasures(shape);
       shape[k] = 1.0;
-      measure(shape, &s_plus, &v_plus);
-      std::printf("shape %d: stature %.4f / %.4f m, volume %.4f / %.4f m^3 (at -1 / +1)\n", k, s_minus, s_plus,
-                  v_minus, v_plus);
+      const pf2::BodyMeasures plus = model.restMeasures(shape);
+      std::printf("shape %d: stature %.4f / %.4f m, volume %.4f / %.4f m^3 (at -1 / +1)\n", k, minus.stature,
+                  plus.stature, minus.volume, plus.volume);
     }
     return 0;
   }

@@ -37,27 +37,7 @@ int joint(const char* name) {
   return 0;
 }
 
-struct Measures {
-  double stature = 0.0, min_y = 0.0, volume = 0.0;
-};
 
-Measures measure(const BodyModel& model, const Eigen::VectorXd& shape) {
-  const Eigen::VectorXf v = model.restVertices(shape);
-  Measures m;
-  double top = -1e9, bottom = 1e9;
-  for (int i = 0; i < model.vertexCount(); ++i) {
-    top = std::max(top, static_cast<double>(v[3 * i + 1]));
-    bottom = std::min(bottom, static_cast<double>(v[3 * i + 1]));
-  }
-  for (const auto& t : model.triangles()) {
-    m.volume += v.segment<3>(3 * t[0]).cast<double>().dot(
-                    v.segment<3>(3 * t[1]).cast<double>().cross(v.segment<3>(3 * t[2]).cast<double>())) /
-                6.0;
-  }
-  m.stature = top - bottom;
-  m.min_y = bottom;
-  return m;
-}
 
 Eigen::VectorXd unitShape(const BodyModel& model, int k, double value) {
   Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.shapeCount());
@@ -73,7 +53,7 @@ TEST(DefaultBody, LoadsWithSmplStructure) {
   EXPECT_FALSE(model.hasPoseBlendShapes());
   for (int v = 0; v < model.vertexCount(); ++v) ASSERT_NEAR(model.weights().row(v).sum(), 1.0f, 1e-5f) << v;
   // Outward normals: the enclosed signed volume is positive and human-sized (litres / 1000).
-  const Measures m = measure(model, Eigen::VectorXd::Zero(model.shapeCount()));
+  const BodyMeasures m = model.restMeasures(Eigen::VectorXd::Zero(model.shapeCount()));
   EXPECT_GT(m.volume, 0.03);
   EXPECT_LT(m.volume, 0.12);
 }
@@ -106,7 +86,7 @@ TEST(DefaultBody, JointsAreWhereABodyHasThem) {
   EXPECT_GT(J[joint("left_wrist")].x(), J[joint("left_elbow")].x() + 0.15);
   EXPECT_NEAR(J[joint("left_ankle")].x(), J[joint("left_hip")].x(), 0.02);
   // Ankles a few centimetres above the soles; the soles near y = -0.86 like SMPL's.
-  const Measures m = measure(model, Eigen::VectorXd::Zero(model.shapeCount()));
+  const BodyMeasures m = model.restMeasures(Eigen::VectorXd::Zero(model.shapeCount()));
   EXPECT_GT(J[joint("left_ankle")].y() - m.min_y, 0.03);
   EXPECT_LT(J[joint("left_ankle")].y() - m.min_y, 0.12);
   EXPECT_GT(m.min_y, -1.0);
@@ -115,7 +95,7 @@ TEST(DefaultBody, JointsAreWhereABodyHasThem) {
 
 TEST(DefaultBody, RestStatureIsAdult) {
   const BodyModel& model = defaultModel();
-  const Measures m = measure(model, Eigen::VectorXd::Zero(model.shapeCount()));
+  const BodyMeasures m = model.restMeasures(Eigen::VectorXd::Zero(model.shapeCount()));
   EXPECT_GT(m.stature, 1.5);
   EXPECT_LT(m.stature, 1.9);
 }
@@ -125,19 +105,19 @@ TEST(DefaultBody, ShapeZeroMakesTallerAndAnotherMakesHeavier) {
   // Coefficient 0: stature grows monotonically (documented: about +9 cm per unit).
   double previous = 0.0;
   for (double b = -2.0; b <= 2.0; b += 1.0) {
-    const Measures m = measure(model, unitShape(model, 0, b));
+    const BodyMeasures m = model.restMeasures(unitShape(model, 0, b));
     if (b > -2.0) {
       EXPECT_GT(m.stature, previous + 0.05) << b;
     }
     previous = m.stature;
   }
   // The soles stay put (the pelvis rises instead), so people stand on the same floor.
-  EXPECT_NEAR(measure(model, unitShape(model, 0, 2.0)).min_y, measure(model, unitShape(model, 0, -2.0)).min_y, 0.01);
+  EXPECT_NEAR(model.restMeasures(unitShape(model, 0, 2.0)).min_y, model.restMeasures(unitShape(model, 0, -2.0)).min_y, 0.01);
   // Coefficient 3: more volume at almost the same stature (documented: weight).
-  const double base_stature = measure(model, unitShape(model, 3, 0.0)).stature;
+  const double base_stature = model.restMeasures(unitShape(model, 3, 0.0)).stature;
   previous = 0.0;
   for (double b = -2.0; b <= 2.0; b += 1.0) {
-    const Measures m = measure(model, unitShape(model, 3, b));
+    const BodyMeasures m = model.restMeasures(unitShape(model, 3, b));
     if (b > -2.0) {
       EXPECT_GT(m.volume, previous * 1.05) << b;
     }

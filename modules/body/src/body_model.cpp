@@ -6,7 +6,9 @@
 #include <pcl/point_types.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <type_traits>
 #include <sys/stat.h>
 
@@ -196,6 +198,25 @@ std::array<Eigen::Vector3d, kBodyJointCount> BodyModel::restJoints(const Eigen::
   std::array<Eigen::Vector3d, kBodyJointCount> joints;
   for (int j = 0; j < kBodyJointCount; ++j) joints[j] = J.segment<3>(3 * j);
   return joints;
+}
+
+BodyMeasures BodyModel::restMeasures(const Eigen::VectorXd& shape) const {
+  const Eigen::VectorXf v = restVertices(shape);
+  BodyMeasures m;
+  double top = -std::numeric_limits<double>::infinity();
+  m.min_y = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < vertexCount(); ++i) {
+    top = std::max(top, static_cast<double>(v[3 * i + 1]));
+    m.min_y = std::min(m.min_y, static_cast<double>(v[3 * i + 1]));
+  }
+  for (const auto& t : triangles_) {
+    const Eigen::Vector3d a = v.segment<3>(3 * t[0]).cast<double>();
+    const Eigen::Vector3d b = v.segment<3>(3 * t[1]).cast<double>();
+    const Eigen::Vector3d c = v.segment<3>(3 * t[2]).cast<double>();
+    m.volume += a.dot(b.cross(c)) / 6.0;
+  }
+  m.stature = top - m.min_y;
+  return m;
 }
 
 BodyMesh BodyModel::evaluate(const BodyParameters& parameters) const {

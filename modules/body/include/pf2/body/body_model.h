@@ -50,6 +50,14 @@ struct BodyMesh {
   std::array<Eigen::Vector3d, kBodyJointCount> joints;  // posed joint positions, metres
 };
 
+// Size of a rest-pose body: stature (top of head to soles), the lowest point's y (the soles;
+// the floor under the body in the body frame) and the enclosed volume.
+struct BodyMeasures {
+  double stature = 0.0;  // m
+  double min_y = 0.0;    // m
+  double volume = 0.0;   // m^3 (signed; positive because the triangles face outward)
+};
+
 class BodyModel {
  public:
   // Reads an SMPL-format .npz. Throws pf2::Error naming the file and the array on any problem
@@ -73,6 +81,8 @@ class BodyModel {
   std::array<Eigen::Vector3d, kBodyJointCount> restJoints(const Eigen::VectorXd& shape) const;
   // Rest-pose vertices for a shape (template + shape blend shapes), 3V values x0 y0 z0 x1 ...
   Eigen::VectorXf restVertices(const Eigen::VectorXd& shape) const;
+  // Stature, soles and volume of the rest mesh for a shape. Thread safe.
+  BodyMeasures restMeasures(const Eigen::VectorXd& shape) const;
   // Per-vertex skinning weights (vertexCount x 24), rows sum to 1.
   const Eigen::MatrixXf& weights() const { return weights_; }
 
