@@ -36,6 +36,78 @@ cv::Mat channel(const cv::Mat& blob, int c) {
 
 }  // namespace
 
+std::vector<PersonDetection> decodeMoveNet(const std::vector<cv::Mat>& heads, float cell_u, float cell_v,
+                                          const MoveNetDetector::Options& options) {
+  if (heads.size() != 6) throw Error("movenet: expected 6 heads");
+  const int expected_channels[] = {1, kKeypoints, 2 * kKeypoints, 2 * kKeypoints, 2, 2};
+  for (size_t i = 0; i < heads.size(); ++i)
+    if (heads[i].dims != 4 || heads[i].size[1] != expected_channels[i] || heads[i].size[2] != heads[0].size[2] ||
+        heads[i].size[3] != heads[0].size[3])
+      throw Error("movenet: head " + std::to_string(i) + " has an unexpected shape");
+  std::vector<PersonDetection> people;
+  const cv::Mat &heat = heads[1], &regress = heads[2], &offset = heads[3], &box_scale = heads[4],
+                &box_offset = heads[5];
+  const cv::Mat centre = channel(heads[0], 0);
+  const int gh = centre.rows, gw = centre.cols;
+
+  // Person centres: 5x5 local maxima of the centre heatmap, best first.
+  cv::Mat local_max;
+  cv::dilate(centre, local_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kPeakWindow, kPeakWindow)));
+  std::vector<std::pair<float, cv::Point>> peaks;
+  for (int y = 0; y < gh; ++y)
+    for (int x = 0; x < gw; ++x)
+      if (centre.at<float>(y, x) >= local_max.at<float>(y, x)) peaks.push_back({centre.at<float>(y, x), {x, y}});
+  std::sort(peaks.begin(), peaks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (static_cast<int>(peaks.size()) > options.max_people) peaks.resize(options.max_people);
+
+  const float spread = kSpread * std::min(gh, gw);
+  for (const auto& [centre_score, c] : peaks) {
+    // Box in grid cells, clipped to the grid.
+    const float h = std::max(0.f, channel(box_scale, 0).at<float>(c)), w = std::max(0.f, channel(box_scale, 1).at<float>(c));
+    const float yc = c.y + channel(box_offset, 0).at<float>(c), xc = c.x + channel(box_offset, 1).at<float>(c);
+    const float y0 = std::clamp(yc - h / 2, 0.f, static_cast<float>(gh)), y1 = std::clamp(yc + h / 2, 0.f, static_cast<float>(gh));
+    const float x0 = std::clamp(xc - w / 2, 0.f, static_cast<float>(gw)), x1 = std::clamp(xc + w / 2, 0.f, static_cast<float>(gw));
+
+    PersonDetection person;
+    person.keypoints.resize(kKeypoints);
+    float score_sum = 0;
+    int confident = 0;
+    for (int k = 0; k < kKeypoints; ++k) {
+      const float ry = c.y + channel(regress, 2 * k).at<float>(c), rx = c.x + channel(regress, 2 * k + 1).at<float>(c);
+      const cv::Mat hk = channel(heat, k);
+      float best = -1;
+      cv::Point at;
+      for (int y = static_cast<int>(std::ceil(y0)); y < y1; ++y)
+        for (int x = static_cast<int>(std::ceil(x0)); x < x1; ++x) {
+          const float d2 = (y - ry) * (y - ry) + (x - rx) * (x - rx);
+          const float v = hk.at<float>(y, x) * std::exp(-d2 / spread);
+          if (v > best) {
+            best = v;
+            at = {x, y};
+          }
+        }
+      Keypoint2d& kp = person.keypoints[k];
+      if (best < 0) {  // empty box: fall back on the regressed point, unscored
+        kp = {rx * cell_u, ry * cell_v, 0.f};
+        continue;
+      }
+      kp.u = (at.x + channel(offset, 2 * k + 1).at<float>(at)) * cell_u;
+      kp.v = (at.y + channel(offset, 2 * k).at<float>(at)) * cell_v;
+      kp.score = best;
+      if (best > options.keypoint_threshold) {
+        score_sum += best;
+        ++confident;
+      }
+    }
+    // As the graph scores an instance: centre confidence times the mean confident keypoint score.
+    person.score = confident > 0 ? centre_score * score_sum / confident : 0.f;
+    if (person.score < options.min_person_score) continue;
+    person.box = {x0 * cell_u, y0 * cell_v, x1 * cell_u, y1 * cell_v};
+    people.push_back(std::move(person));
+  }
+  return people;
+}
+
 struct MoveNetDetector::Impl {
   cv::dnn::Net net;
   std::vector<std::string> layers;  // OpenCV layer names of the six heads, order as below
@@ -81,69 +153,9 @@ Detections MoveNetDetector::detect(const Frame& frame) {
   impl_->net.setInput(cv::dnn::blobFromImage(normalised));
   std::vector<cv::Mat> heads;
   impl_->net.forward(heads, impl_->layers);
-  const cv::Mat& centre_blob = heads[0];
-  const cv::Mat &heat = heads[1], &regress = heads[2], &offset = heads[3], &box_scale = heads[4],
-                &box_offset = heads[5];
-  const cv::Mat centre = channel(centre_blob, 0);
-  const int gh = centre.rows, gw = centre.cols;
-  const float sx = static_cast<float>(frame.rgb.cols) / options_.input_width * kStride;
-  const float sy = static_cast<float>(frame.rgb.rows) / options_.input_height * kStride;
-
-  // Person centres: 5x5 local maxima of the centre heatmap, best first.
-  cv::Mat local_max;
-  cv::dilate(centre, local_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kPeakWindow, kPeakWindow)));
-  std::vector<std::pair<float, cv::Point>> peaks;
-  for (int y = 0; y < gh; ++y)
-    for (int x = 0; x < gw; ++x)
-      if (centre.at<float>(y, x) >= local_max.at<float>(y, x)) peaks.push_back({centre.at<float>(y, x), {x, y}});
-  std::sort(peaks.begin(), peaks.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  if (static_cast<int>(peaks.size()) > options_.max_people) peaks.resize(options_.max_people);
-
-  const float spread = kSpread * std::min(gh, gw);
-  for (const auto& [centre_score, c] : peaks) {
-    // Box in grid cells, clipped to the grid.
-    const float h = std::max(0.f, channel(box_scale, 0).at<float>(c)), w = std::max(0.f, channel(box_scale, 1).at<float>(c));
-    const float yc = c.y + channel(box_offset, 0).at<float>(c), xc = c.x + channel(box_offset, 1).at<float>(c);
-    const float y0 = std::clamp(yc - h / 2, 0.f, static_cast<float>(gh)), y1 = std::clamp(yc + h / 2, 0.f, static_cast<float>(gh));
-    const float x0 = std::clamp(xc - w / 2, 0.f, static_cast<float>(gw)), x1 = std::clamp(xc + w / 2, 0.f, static_cast<float>(gw));
-
-    PersonDetection person;
-    person.keypoints.resize(kKeypoints);
-    float score_sum = 0;
-    int confident = 0;
-    for (int k = 0; k < kKeypoints; ++k) {
-      const float ry = c.y + channel(regress, 2 * k).at<float>(c), rx = c.x + channel(regress, 2 * k + 1).at<float>(c);
-      const cv::Mat hk = channel(heat, k);
-      float best = -1;
-      cv::Point at;
-      for (int y = static_cast<int>(std::ceil(y0)); y < y1; ++y)
-        for (int x = static_cast<int>(std::ceil(x0)); x < x1; ++x) {
-          const float d2 = (y - ry) * (y - ry) + (x - rx) * (x - rx);
-          const float v = hk.at<float>(y, x) * std::exp(-d2 / spread);
-          if (v > best) {
-            best = v;
-            at = {x, y};
-          }
-        }
-      Keypoint2d& kp = person.keypoints[k];
-      if (best < 0) {  // empty box: fall back on the regressed point, unscored
-        kp = {rx * sx, ry * sy, 0.f};
-        continue;
-      }
-      kp.u = (at.x + channel(offset, 2 * k + 1).at<float>(at)) * sx;
-      kp.v = (at.y + channel(offset, 2 * k).at<float>(at)) * sy;
-      kp.score = best;
-      if (best > options_.keypoint_threshold) {
-        score_sum += best;
-        ++confident;
-      }
-    }
-    // As the graph scores an instance: centre confidence times the mean confident keypoint score.
-    person.score = confident > 0 ? centre_score * score_sum / confident : 0.f;
-    if (person.score < options_.min_person_score) continue;
-    person.box = {x0 * sx, y0 * sy, x1 * sx, y1 * sy};
-    result.people.push_back(std::move(person));
-  }
+  const float cell_u = static_cast<float>(frame.rgb.cols) / options_.input_width * kStride;
+  const float cell_v = static_cast<float>(frame.rgb.rows) / options_.input_height * kStride;
+  result.people = decodeMoveNet(heads, cell_u, cell_v, options_);
   return result;
 }
 

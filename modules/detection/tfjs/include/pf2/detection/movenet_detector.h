@@ -42,4 +42,13 @@ class MoveNetDetector : public HumanDetector {
   std::unique_ptr<Impl> impl_;
 };
 
+// MoveNet MultiPose decoding, as the graph does it (see docs/learned_detection.md), separate so it
+// can be tested without the model. heads: the six NCHW output blobs (batch 1) on the output grid,
+// in this order: centre (1 channel, probability), keypoint heatmaps (17, probability), regression
+// from the centre (34: dy, dx per keypoint, cells), sub-cell offsets (34: dy, dx), box size
+// (2: h, w, cells), box centre offset (2: dy, dx). cell_u, cell_v: pixels per grid cell in the
+// image. Throws pf2::Error on unexpected shapes. Thread safe.
+std::vector<PersonDetection> decodeMoveNet(const std::vector<cv::Mat>& heads, float cell_u, float cell_v,
+                                          const MoveNetDetector::Options& options);
+
 }  // namespace pf2
