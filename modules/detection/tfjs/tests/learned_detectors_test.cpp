@@ -48,6 +48,17 @@ bool loadRealFrame(RealFrame* out) {
   return true;
 }
 
+// Expects make() to throw pf2::Error whose message names `text` (a file path).
+template <typename Make>
+void expectErrorNaming(Make make, const std::string& text) {
+  try {
+    make();
+    ADD_FAILURE() << "no error; expected one naming " << text;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
+}
+
 double iou(const cv::Mat& a, const cv::Mat& b) {
   const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
   return uni > 0 ? inter / uni : 0;
@@ -179,20 +190,10 @@ TEST(LearnedDetectors, FactoryKnowsTheLearnedBackendsAndChecksTheirOptions) {
 
   DetectorOptions options;
   options.extra["selfie.model"] = testing::TempDir() + "pf2_no_such_model/selfie.json";
-  try {
-    createHumanDetector("selfie", options);
-    ADD_FAILURE() << "missing model accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(options.extra["selfie.model"]), std::string::npos) << e.what();
-  }
+  expectErrorNaming([&] { createHumanDetector("selfie", options); }, options.extra["selfie.model"]);
   DetectorOptions plain;  // "model" is the model of a one-model backend (pf2_detect --model)
   plain.extra["model"] = testing::TempDir() + "pf2_no_such_model/movenet.json";
-  try {
-    createHumanDetector("movenet", plain);
-    ADD_FAILURE() << "missing model accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(plain.extra["model"]), std::string::npos) << e.what();
-  }
+  expectErrorNaming([&] { createHumanDetector("movenet", plain); }, plain.extra["model"]);
   EXPECT_THROW(createHumanDetector("learned", plain), Error);
   DetectorOptions typo;
   typo.extra["selfie.treshold"] = "0.4";
@@ -208,12 +209,7 @@ TEST(LearnedDetectors, FactoryKnowsTheLearnedBackendsAndChecksTheirOptions) {
 TEST(LearnedDetectors, MissingModelThrowsNamingTheFile) {
   SelfieSegmenter::Options s;
   s.model_json = testing::TempDir() + "pf2_no_such_model/selfie.json";
-  try {
-    SelfieSegmenter selfie(s);
-    ADD_FAILURE() << "missing model accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(s.model_json), std::string::npos);
-  }
+  expectErrorNaming([&] { SelfieSegmenter selfie(s); }, s.model_json);
   MoveNetDetector::Options m;
   m.model_json = s.model_json;
   EXPECT_THROW(MoveNetDetector movenet(m), Error);
