@@ -18,8 +18,8 @@ constexpr int kMaxPeople = 254;    // person t is stored as t + 1
 
 bool validDepth(float d) { return std::isfinite(d) && d > 0.f; }
 
-cv::Mat sanitized(const cv::Mat& depth) {
-  cv::Mat out(depth.size(), CV_32F);
+void sanitize(const cv::Mat& depth, cv::Mat& out) {
+  out.create(depth.size(), CV_32F);
   for (int v = 0; v < depth.rows; ++v) {
     const float* in = depth.ptr<float>(v);
     float* o = out.ptr<float>(v);
@@ -27,7 +27,6 @@ cv::Mat sanitized(const cv::Mat& depth) {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     for (int u = 0; u < depth.cols; ++u) o[u] = (in[u] > 0.f && in[u] < kInf) ? in[u] : 0.f;
   }
-  return out;
 }
 
 cv::Mat dilated(const cv::Mat& mask, int radius) {
@@ -162,6 +161,18 @@ cv::Mat warpDepth(const cv::Mat& depth_src, const CameraIntrinsics& intrinsics,
   return out;
 }
 
+cv::Mat DualBBoxFilter::Person::fullDepth(const cv::Size& image) const {
+  cv::Mat full = cv::Mat::zeros(image, CV_32F);
+  if (!depth.empty()) depth.copyTo(full(area));
+  return full;
+}
+
+cv::Mat DualBBoxFilter::Person::fullMask(const cv::Size& image) const {
+  cv::Mat full = cv::Mat::zeros(image, CV_8U);
+  if (!mask.empty()) mask.copyTo(full(area));
+  return full;
+}
+
 DualBBoxFilter::DualBBoxFilter(const Options& options) : options_(options) {}
 
 void DualBBoxFilter::reset() {
@@ -174,7 +185,8 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   if (depth_in.empty() || depth_in.type() != CV_32F) {
     throw Error("DualBBoxFilter: depth must be a non-empty CV_32F image (metres)");
   }
-  const cv::Mat depth = sanitized(depth_in);
+  sanitize(depth_in, depth_);
+  const cv::Mat& depth = depth_;
   const cv::Size size = depth.size();
   const Options& o = options_;
 
@@ -197,13 +209,17 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   }
 
   // Scene separation: D_b's histogram is taken outside every box.
-  cv::Mat outside(size, CV_8U, cv::Scalar(255));
+  outside_.create(size, CV_8U);
+  outside_.setTo(255);
+  cv::Mat& outside = outside_;
   for (const Box& b : boxes) outside(b.rect).setTo(0);
   Result result;
   result.background = principalInterval(depth, outside, cv::Rect(0, 0, size.width, size.height),
                                         o.background_histogram);
 
-  cv::Mat state = cv::Mat::zeros(size, CV_8U);
+  state_.create(size, CV_8U);
+  state_.setTo(0);
+  cv::Mat& state = state_;
   std::vector<DepthInterval> intervals(boxes.size());
   std::vector<cv::Rect> areas(boxes.size());  // where each person's pixels can be
   const float human_margin = static_cast<float>(o.human_margin);
@@ -341,16 +357,17 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     p.box = PersonBox{static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(r.x + r.width),
                       static_cast<float>(r.y + r.height)};
     p.interval = intervals[t];
-    p.mask = cv::Mat::zeros(size, CV_8U);
-    p.depth = cv::Mat::zeros(size, CV_32F);
+    p.area = areas[t];
+    const cv::Rect& a = p.area;
+    p.mask = cv::Mat::zeros(a.size(), CV_8U);
+    p.depth = cv::Mat::zeros(a.size(), CV_32F);
     const uint8_t label = static_cast<uint8_t>(t + 1);
-    const cv::Rect& a = areas[t];
-    for (int v = a.y; v < a.y + a.height; ++v) {
-      const float* d = depth.ptr<float>(v);
-      const uint8_t* s = state.ptr<uint8_t>(v);
+    for (int v = 0; v < a.height; ++v) {
+      const float* d = depth.ptr<float>(v + a.y) + a.x;
+      const uint8_t* s = state.ptr<uint8_t>(v + a.y) + a.x;
       uint8_t* m = p.mask.ptr<uint8_t>(v);
       float* pd = p.depth.ptr<float>(v);
-      for (int u = a.x; u < a.x + a.width; ++u) {
+      for (int u = 0; u < a.width; ++u) {
         if (s[u] == label) {
           m[u] = 255;
           pd[u] = d[u];

@@ -107,8 +107,9 @@ TEST(DualBBoxFilter, Algorithm1OnHandMadeScene) {
 
   ASSERT_EQ(result.people.size(), 1u);
   EXPECT_EQ(differing(result.static_depth, expected_static), 0);
-  EXPECT_EQ(differing(result.people[0].depth, expected_person), 0);
-  EXPECT_EQ(differing(result.people[0].mask, expected_person > 0), 0);
+  EXPECT_EQ(result.people[0].area, cv::Rect(14, 9, 12, 17));
+  EXPECT_EQ(differing(result.people[0].fullDepth(scene.depth.size()), expected_person), 0);
+  EXPECT_EQ(differing(result.people[0].fullMask(scene.depth.size()), expected_person > 0), 0);
   cv::Mat expected_removed = (scene.depth > 0) & (expected_static == 0);
   EXPECT_EQ(differing(result.removed, expected_removed), 0);
   EXPECT_NEAR(result.people[0].interval.min, 1.50, 1e-9);
@@ -211,7 +212,8 @@ TEST(DualBBoxFilter, MaskAdditionRemovesMaskedPixelsOutsideTheBox) {
   DualBBoxFilter with_mask(o);
   const auto r = with_mask.filter(scene.depth, detections({p}));
   EXPECT_EQ(r.static_depth.at<float>(13, 10), 0.f);  // within one pixel of the mask
-  EXPECT_EQ(r.people[0].mask.at<uint8_t>(13, 10), 255);
+  EXPECT_EQ(r.people[0].fullMask(scene.depth.size()).at<uint8_t>(13, 10), 255);
+  EXPECT_EQ(r.people[0].area, cv::Rect(10, 9, 16, 17));  // box joined with the dilated mask
   EXPECT_EQ(r.static_depth.at<float>(13, 8), 3.02f);  // two pixels away: kept
   // The masked histogram excludes the 1.9 m pixel's bin from consideration; the interval is the body's.
   EXPECT_NEAR(r.people[0].interval.min, 1.50, 1e-9);

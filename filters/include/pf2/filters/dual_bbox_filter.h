@@ -119,8 +119,12 @@ class DualBBoxFilter {
     int detection = -1;   // index into the Detections' people
     PersonBox box;        // the detector's box, clipped to the image
     DepthInterval interval;  // (h_min, h_max) without margin
-    cv::Mat depth;        // D_h^t: CV_32F image-sized, this person's depth, 0 elsewhere
-    cv::Mat mask;         // CV_8U image-sized, 255 where depth > 0
+    cv::Rect area;        // image pixels the two images below cover (box, and mask with use_mask)
+    cv::Mat depth;        // D_h^t on area: CV_32F of area's size, this person's depth, 0 elsewhere
+    cv::Mat mask;         // CV_8U of area's size, 255 where depth > 0
+    // Both images at image size (a copy; for callers that want whole images).
+    cv::Mat fullDepth(const cv::Size& image) const;
+    cv::Mat fullMask(const cv::Size& image) const;
   };
 
   struct Result {
@@ -156,6 +160,8 @@ class DualBBoxFilter {
   Options options_;
   CameraIntrinsics intrinsics_;
   std::shared_ptr<DynamicEvidence> evidence_;
+  // Working images kept between calls: allocating them anew costs more than filling them.
+  cv::Mat depth_, state_, outside_;
   cv::Mat previous_depth_;  // depth of last frame's removed pixels, 0 elsewhere
   cv::Mat previous_age_;    // CV_8U frames since a box last supported each removed pixel
 };
