@@ -68,6 +68,7 @@ std::vector<PersonDetection> SelfieSegmenter::components(const cv::Mat& probabil
              static_cast<float>(y + stats.at<int>(i, cv::CC_STAT_HEIGHT))};
     p.mask = labels == i;
     p.score = static_cast<float>(cv::mean(probability, p.mask)[0]);
+    if (p.score < options_.min_score) continue;
     people.push_back(std::move(p));
   }
   return people;

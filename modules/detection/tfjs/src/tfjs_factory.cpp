@@ -15,7 +15,7 @@ class ExtraReader {
  public:
   explicit ExtraReader(const DetectorExtraOptions& extra) : extra_(extra) {
     static const std::set<std::string> kKnown = {
-        "selfie.model",    "selfie.threshold", "selfie.min_area",   "selfie.square_crops", "movenet.model",
+        "selfie.model",    "selfie.threshold", "selfie.min_area",   "selfie.square_crops", "selfie.min_score", "movenet.model",
         "movenet.width",   "movenet.height",   "movenet.min_score", "learned.pose_every"};
     for (const auto& entry : extra_) {
       const std::string family = entry.first.substr(0, entry.first.find('.') + 1);
@@ -53,6 +53,7 @@ SelfieSegmenter::Options selfieOptions(const ExtraReader& r) {
   r.number("selfie.threshold", &o.mask_threshold);
   r.number("selfie.min_area", &o.min_area_fraction);
   r.number("selfie.square_crops", &o.square_crops);
+  r.number("selfie.min_score", &o.min_score);
   return o;
 }
 

@@ -7,6 +7,7 @@
 //   selfie.threshold  mask probability threshold (0.5)
 //   selfie.min_area   smallest component, fraction of the image (0.01)
 //   selfie.square_crops  1: two square crops per frame instead of one stretched frame (0)
+//   selfie.min_score  smallest mean probability of a kept component (0.7)
 //   movenet.model     path of MoveNet MultiPose's model.json (default: humanModelPath("movenet-multipose"))
 //   movenet.width, movenet.height   network input in pixels, multiples of 32 (256, 192)
 //   movenet.min_score smallest person score kept (0.2)
