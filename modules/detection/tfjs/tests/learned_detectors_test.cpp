@@ -1,4 +1,4 @@
-// The learned backends on a real TUM fr3/walking_xyz frame with a hand-made reference mask of the
+// The learned backends on a real TUM fr3/walking_xyz frame with a reference mask of the
 // two people. Needs the models (scripts/fetch_models.sh) and the optional shared data; skips
 // without either.
 #include <sys/stat.h>
