@@ -15,9 +15,7 @@ struct RoomFrames {
   std::vector<Eigen::Isometry3d> poses;
   std::vector<cv::Mat> depths, colours;
   RoomFrames() {
-    test::AnalyticScene scene;
-    scene.has_room = true;
-    scene.room = {Eigen::Vector3d(-2.0, -1.5, -2.0), Eigen::Vector3d(2.0, 1.2, 2.0)};
+    test::AnalyticScene scene = test::boxRoom();
     scene.spheres.push_back({Eigen::Vector3d(0.8, 0.6, 1.2), 0.4});
     scene.boxes.push_back({Eigen::Vector3d(-1.2, 0.4, 0.6), Eigen::Vector3d(-0.4, 1.2, 1.4)});
     for (int i = 0; i < 16; ++i) {

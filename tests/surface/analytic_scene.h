@@ -101,6 +101,14 @@ struct AnalyticScene {
   }
 };
 
+// The 4 x 2.7 x 4 m room most tests and benchmarks use (world y points down, floor at y = 1.2).
+inline AnalyticScene boxRoom() {
+  AnalyticScene scene;
+  scene.has_room = true;
+  scene.room = {Eigen::Vector3d(-2.0, -1.5, -2.0), Eigen::Vector3d(2.0, 1.2, 2.0)};
+  return scene;
+}
+
 // A camera at position p_w looking at target_w (y of the image roughly along world -up).
 inline Eigen::Isometry3d lookAt(const Eigen::Vector3d& p_w, const Eigen::Vector3d& target_w,
                                 const Eigen::Vector3d& up_w = Eigen::Vector3d(0, -1, 0)) {

@@ -9,14 +9,8 @@ namespace pf2 {
 namespace {
 
 using test::AnalyticScene;
+using test::boxRoom;
 using test::lookAt;
-
-AnalyticScene room() {
-  AnalyticScene scene;
-  scene.has_room = true;
-  scene.room = {Eigen::Vector3d(-2.0, -1.5, -2.0), Eigen::Vector3d(2.0, 1.2, 2.0)};
-  return scene;
-}
 
 // Cameras at the back of the room looking at the far wall, the person halfway between.
 Eigen::Isometry3d pose(int i) {
@@ -32,7 +26,7 @@ int occupiedInside(const OccupancyMap& map, const test::Box& box) {
 }
 
 TEST(OccupancyMap, PersonWhoWalksAwayLeavesNoOccupiedCells) {
-  const AnalyticScene empty = room();
+  const AnalyticScene empty = boxRoom();
   AnalyticScene with_person = empty;
   const test::Box person{Eigen::Vector3d(-0.25, -0.6, 0.2), Eigen::Vector3d(0.25, 1.2, 0.5)};
   with_person.boxes.push_back(person);

@@ -13,14 +13,8 @@ namespace pf2 {
 namespace {
 
 using test::AnalyticScene;
+using test::boxRoom;
 using test::lookAt;
-
-AnalyticScene boxRoom() {
-  AnalyticScene scene;
-  scene.has_room = true;
-  scene.room = {Eigen::Vector3d(-2.0, -1.5, -2.0), Eigen::Vector3d(2.0, 1.2, 2.0)};
-  return scene;
-}
 
 std::vector<Eigen::Isometry3d> roomPoses() {
   std::vector<Eigen::Isometry3d> poses;
