@@ -550,7 +550,7 @@ std::vector<std::pair<std::string, NpyArray>> Mpfb2Converter::convert(const std:
     const Eigen::VectorXd r = solveNnls(A, b);
     const double sum = r.sum();
     if (!(sum > 0.0)) throw Error("Mpfb2Converter: no joint regressor for " + std::string(kBodyJointNames[j]));
-    double error = 0.0;
+    double error = 0.0, rest_error = 0.0;
     for (int sign : {-1, 0, 1}) {
       for (int k = 0; k < (sign == 0 ? 1 : K); ++k) {
         Eigen::Vector3d estimate = Eigen::Vector3d::Zero();
@@ -561,12 +561,14 @@ std::vector<std::pair<std::string, NpyArray>> Mpfb2Converter::convert(const std:
           estimate += (r[c] / sum) * (mean_shape.segment<3>(3 * v) + scale * dirs.block<3, 1>(3 * v, k));
         }
         error = std::max(error, (estimate - truth).norm());
+        if (sign == 0) rest_error = (estimate - truth).norm();
       }
     }
     for (int c = 0; c < n; ++c) regressor(j, candidates[c]) = static_cast<float>(r[c] / sum);
     max_joint_error = std::max(max_joint_error, error);
     joint_log << "  " << kBodyJointNames[j] << ": " << n << " candidates, "
-              << (r.array() > 0).count() << " used, max error " << error * 1000.0 << " mm\n";
+              << (r.array() > 0).count() << " used, error " << rest_error * 1000.0 << " mm at the mean shape, "
+              << error * 1000.0 << " mm at most\n";
   }
 
   // Triangles (a b c, a c d, ...) oriented so that the enclosed signed volume is positive.
