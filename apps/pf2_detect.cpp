@@ -66,7 +66,9 @@ const char* kUsage =
     "  --near-preference F    nearest window holding >= F x the best count wins (default 0.6)\n"
     "  --use-mask             also remove backend masks (dilated) where a backend gives them\n"
     "  --temporal             guard last frame's removed pixels, moved by groundtruth.txt motion\n"
-    "  --geometric            remove depth in front of the last static depth moved into this view\n"
+    "  --geometric            remove depth in front of a static model: the farthest static depth\n"
+    "                         seen at each pixel, carried from frame to frame with the camera motion\n"
+    "                         (a stand-in for the map's prediction, which the SLAM pipeline supplies)\n"
     "  --no-filter            write the input depth with the boxes' pixels removed (boxes only)\n"
     "Other:\n"
     "  --max-frames N         process the first N frames only\n"
@@ -199,7 +201,7 @@ int run(int argc, char** argv) {
   std::vector<pf2::Detections> all_detections;
   Eigen::Isometry3d T_w_prev = Eigen::Isometry3d::Identity();
   bool have_previous_pose = false;
-  cv::Mat previous_static;
+  cv::Mat static_model;  // --geometric: farthest static depth seen, in the previous frame's view
   const size_t frames = max_frames > 0 ? std::min<size_t>(sequence.size(), max_frames) : sequence.size();
   for (size_t i = 0; i < frames; ++i) {
     const pf2::Frame frame = sequence.frame(i);
@@ -216,10 +218,10 @@ int run(int argc, char** argv) {
     Eigen::Isometry3d T_w_cur;
     const bool have_pose = !poses.empty() && pf2::interpolateAt(poses, frame.timestamp, 0.1, &T_w_cur);
     if (have_pose && have_previous_pose) T_cur_prev = T_w_cur.inverse() * T_w_prev;
-    if (filter_options.geometric) {
-      evidence->setPrediction(previous_static.empty()
-                                  ? cv::Mat()
-                                  : pf2::warpDepth(previous_static, frame.intrinsics, T_cur_prev));
+    cv::Mat predicted;
+    if (filter_options.geometric && !static_model.empty()) {
+      predicted = pf2::warpDepth(static_model, frame.intrinsics, T_cur_prev);
+      evidence->setPrediction(predicted);
     }
     cv::Mat static_depth, removed;
     if (no_filter) {
@@ -236,7 +238,10 @@ int run(int argc, char** argv) {
       static_depth = result.static_depth;
       removed = result.removed;
     }
-    previous_static = static_depth;
+    if (filter_options.geometric) {
+      // People only ever stand in front of the static scene, so the farthest depth seen is static.
+      static_model = predicted.empty() ? static_depth.clone() : cv::max(predicted, static_depth);
+    }
     T_w_prev = T_w_cur;
     have_previous_pose = have_pose;
 

@@ -29,12 +29,19 @@ void sanitize(const cv::Mat& depth, cv::Mat& out) {
   }
 }
 
+// The mask dilated by radius pixels (a disc), computed on the mask's bounding box only.
 cv::Mat dilated(const cv::Mat& mask, int radius) {
-  cv::Mat binary = mask > 0, out;
-  if (radius <= 0) return binary;
-  const cv::Mat kernel =
-      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
-  cv::dilate(binary, out, kernel);
+  cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
+  const cv::Rect bounds = cv::boundingRect(mask);
+  if (bounds.empty()) return out;
+  const int r = std::max(0, radius);
+  const cv::Rect area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
+                        cv::Rect(0, 0, mask.cols, mask.rows);
+  cv::Mat binary = mask(area) > 0;
+  if (r > 0) {
+    cv::dilate(binary, binary, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+  }
+  binary.copyTo(out(area));
   return out;
 }
 
@@ -47,17 +54,23 @@ void warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
   const Eigen::Matrix3f R = T_dst_src.linear().cast<float>();
   const Eigen::Vector3f t = T_dst_src.translation().cast<float>();
   const float fx = K.fx, fy = K.fy, cx = K.cx, cy = K.cy;
-  for (int v = 0; v < depth_src.rows; ++v) {
+  // p_dst = z * (R (x_n, y_n, 1)) + t with x_n, y_n the normalised coordinates: the rotated ray is
+  // a column term plus a row term, computed once per column and per row.
+  std::vector<Eigen::Vector3f> column_ray(depth_src.cols);
+  for (int u = 0; u < depth_src.cols; ++u) column_ray[u] = R.col(0) * ((u - cx) / fx);
+  const int width = depth_src.cols, height = depth_src.rows;
+  for (int v = 0; v < height; ++v) {
     const float* row = depth_src.ptr<float>(v);
-    for (int u = 0; u < depth_src.cols; ++u) {
+    const Eigen::Vector3f row_ray = R.col(1) * ((v - cy) / fy) + R.col(2);
+    for (int u = 0; u < width; ++u) {
       const float z = row[u];
       if (!(z > 0.f)) continue;
-      const Eigen::Vector3f p_src((u - cx) * z / fx, (v - cy) * z / fy, z);
-      const Eigen::Vector3f p_dst = R * p_src + t;
+      const Eigen::Vector3f p_dst = z * (column_ray[u] + row_ray) + t;
       if (!(p_dst.z() > 0.f)) continue;
-      const int ud = static_cast<int>(std::lround(fx * p_dst.x() / p_dst.z() + cx));
-      const int vd = static_cast<int>(std::lround(fy * p_dst.y() / p_dst.z() + cy));
-      if (ud < 0 || vd < 0 || ud >= depth_src.cols || vd >= depth_src.rows) continue;
+      const float uf = fx * p_dst.x() / p_dst.z() + cx + 0.5f;
+      const float vf = fy * p_dst.y() / p_dst.z() + cy + 0.5f;
+      if (!(uf >= 0.f && vf >= 0.f && uf < width && vf < height)) continue;  // also rejects NaN
+      const int ud = static_cast<int>(uf), vd = static_cast<int>(vf);  // round to nearest
       float& target = depth_dst->at<float>(vd, ud);
       if (target == 0.f || p_dst.z() < target) {
         target = p_dst.z();
@@ -295,7 +308,8 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
             }
           }
         }
-        const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+        // A square kernel: OpenCV runs it as separable row and column passes (an ellipse is ~10x slower).
+        const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
         cv::Mat nearest_inverse, farthest, youngest;
         cv::dilate(inverse, nearest_inverse, kernel);
         cv::dilate(warped(area), farthest, kernel);
@@ -376,8 +390,18 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     }
   }
   if (o.temporal) {
-    previous_depth_ = cv::Mat::zeros(size, CV_32F);
-    depth.copyTo(previous_depth_, result.removed);
+    // Only people's pixels and pixels guarded for them carry over: ring outliers and geometric
+    // removals may be background, and carrying those would let the guard spread over it.
+    previous_depth_.create(size, CV_32F);
+    for (int v = 0; v < size.height; ++v) {
+      const float* d = depth.ptr<float>(v);
+      const uint8_t* s = state.ptr<uint8_t>(v);
+      const uint8_t* a = age.ptr<uint8_t>(v);
+      float* p = previous_depth_.ptr<float>(v);
+      for (int u = 0; u < size.width; ++u) {
+        p[u] = ((s[u] != kKept && s[u] != kRemoved) || a[u] > 0) ? d[u] : 0.f;
+      }
+    }
     previous_age_ = age;  // zero (box-supported) except for temporally guarded pixels
   }
   return result;

@@ -73,7 +73,6 @@ Detections GtDetector::detect(const Frame& frame) {
     if ((ids.type() != CV_16U && ids.type() != CV_8U) || (!frame.depth.empty() && ids.size() != frame.depth.size())) {
       throw fileError(*file, "mask must be a single-channel 8/16-bit image of the frame's size");
     }
-    ids.convertTo(ids, CV_32S);
   }
   if (entries) {
     for (const Entry& e : *entries) {
@@ -81,7 +80,7 @@ Detections GtDetector::detect(const Frame& frame) {
       PersonDetection person;
       person.box = e.box;
       person.score = 1.0f;
-      if (!ids.empty()) person.mask = ids == e.id;
+      if (!ids.empty()) person.mask = ids == static_cast<double>(e.id);
       detections.people.push_back(std::move(person));
     }
   }

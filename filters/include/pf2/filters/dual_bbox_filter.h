@@ -16,8 +16,10 @@
 // Additions (each off by default, see Options):
 //   use_mask  — where a backend gives a person mask, the mask dilated by mask_dilation pixels is
 //               removed too and the person's histogram is taken over the mask only;
-//   temporal  — the previous frame's removed pixels, moved into this frame with the camera motion,
-//               guard pixels whose depth agrees with them (boxes that were missed or too small);
+//   temporal  — the previous frame's person pixels (and those it guarded), moved into this frame
+//               with the camera motion and dilated, guard pixels whose depth agrees with them
+//               (boxes that were missed or too small); a pixel is guarded at most temporal_max_age
+//               frames without a box supporting it;
 //   geometric — a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
 //               dynamic wherever it has an opinion.
 #include <memory>
@@ -108,7 +110,7 @@ class DualBBoxFilter {
     // --- beyond the paper ---
     bool use_mask = false;           // use backend masks where present
     int mask_dilation = 3;           // pixels the mask is dilated by
-    bool temporal = false;           // guard with last frame's removed pixels
+    bool temporal = false;           // guard with last frame's person pixels
     int temporal_dilation = 6;       // pixels the moved previous mask is dilated by (person motion)
     double temporal_margin = 0.25;   // metres a depth may differ from the moved previous one
     int temporal_max_age = 4;        // frames a pixel may be guarded without any box supporting it
