@@ -271,6 +271,33 @@ TEST(BodyModel, BrokenModelsThrowNamingFileAndArray) {
   }
 }
 
+TEST(BodyModel, TruncatedOrGarbledFilesThrowNamingTheFile) {
+  const std::string whole = TinyModel().write("pf2_tiny_whole.npz");
+  std::ifstream in(whole, std::ios::binary);
+  std::stringstream content;
+  content << in.rdbuf();
+  const std::string bytes = content.str();
+  const std::string path = testing::TempDir() + "pf2_tiny_cut.npz";
+  for (std::size_t length = 0; length < bytes.size(); length += bytes.size() / 23 + 1) {
+    {
+      std::ofstream out(path, std::ios::binary | std::ios::trunc);
+      out << bytes.substr(0, length);
+    }
+    try {
+      BodyModel::loadNpz(path);
+      ADD_FAILURE() << "no error at length " << length;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+  // An array whose .npy header is garbage: the error names the file and the array.
+  auto arrays = TinyModel().arrays();
+  NpyArray garbage = NpyArray::fromFloats({kVertices, 3}, TinyModel().v_template);
+  garbage.descr = "%$#";
+  replace(&arrays, "v_template", garbage);
+  expectLoadError(arrays, "header", {"'v_template'", "dtype"});
+}
+
 TEST(BodyModel, DefaultPathFollowsTheEnvironment) {
   ::setenv("PF2_BODY_MODEL", "/nonexistent/pf2_model.npz", 1);
   EXPECT_EQ(BodyModel::defaultModelPath(), "/nonexistent/pf2_model.npz");

@@ -1,7 +1,8 @@
 #pragma once
 // SMPL-compatible linear-blend-skinning body model: 24 joints in SMPL's kinematic tree and order,
 // pose as 24 axis-angle rotations (relative to the parent joint), shape coefficients (betas),
-// root translation. Units: metres. Body frame as SMPL's: y up, the body faces +z, x to its left.
+// root translation. Units: metres. Body frame as SMPL's: y up, the body faces +z, x to its left;
+// all-zero pose = SMPL's T pose. See docs/body.md.
 //
 //   vertices = LBS(template + shapedirs * betas + posedirs * pose_feature, joints, weights)
 //   joints   = J_regressor * (template + shapedirs * betas)
@@ -58,6 +59,8 @@ struct BodyMeasures {
   double volume = 0.0;   // m^3 (signed; positive because the triangles face outward)
 };
 
+// Immutable after loading: every const method is thread safe, so one model can be shared by all
+// threads (e.g. through std::shared_ptr<const BodyModel>).
 class BodyModel {
  public:
   // Reads an SMPL-format .npz. Throws pf2::Error naming the file and the array on any problem
