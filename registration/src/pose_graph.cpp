@@ -53,6 +53,10 @@ void PoseGraph::addEdge(const Edge& edge) {
                 std::to_string(edge.to));
   if (!(edge.translation_sigma > 0.0) || !(edge.rotation_sigma > 0.0))
     throw Error("PoseGraph::addEdge: sigmas must be positive");
+  // Ceres rejects a residual on the same parameter blocks twice; a self-edge also carries no
+  // information.
+  if (edge.from == edge.to)
+    throw Error("PoseGraph::addEdge: edge from node " + std::to_string(edge.from) + " to itself");
   edges_.push_back(edge);
 }
 

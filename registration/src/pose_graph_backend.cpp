@@ -100,7 +100,8 @@ void PoseGraphBackend::process(const Pending& pending) {
   std::lock_guard<std::mutex> work(work_mutex_);
   // The node starts where its reference is now in the graph (it may have moved since tracking
   // measured the keyframe), so a correction in flight is not undone.
-  if (pending.reference_id >= 0 && graph_.hasNode(pending.reference_id)) {
+  if (pending.reference_id >= 0 && pending.reference_id != pending.id &&
+      graph_.hasNode(pending.reference_id)) {
     graph_.addNode(pending.id, graph_.pose(pending.reference_id) * pending.T_ref_k);
     PoseGraph::Edge edge;
     edge.from = pending.reference_id;
@@ -123,7 +124,7 @@ void PoseGraphBackend::process(const Pending& pending) {
       if (!graph_.hasNode(candidate.keyframe_id)) continue;
       const OdometryFrame old = verifier_.prepare(*map_->keyframe(candidate.keyframe_id));
       const OdometryResult check = verifier_.estimateWithoutPrior(old, &current);
-      if (!check.valid) continue;
+      if (!check.valid || check.dense.inlier_ratio < options_.min_loop_inlier_ratio) continue;
       PoseGraph::Edge edge;
       edge.from = candidate.keyframe_id;
       edge.to = pending.id;

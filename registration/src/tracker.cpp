@@ -98,10 +98,12 @@ TrackResult Tracker::track(const Frame& frame, const cv::Mat& person_mask) {
   lost_ = false;
   ++frames_since_keyframe_;
   result.keyframe_id = reference_id_;
+  result.T_k_c = T_k_c_;
   result.T_w_c = map_.pose(reference_id_) * T_k_c_;
   if (selector_.needsKeyframe(T_k_c_, result.odometry.dense.inlier_ratio, frames_since_keyframe_)) {
     SubStageTimer timer(&stats_, &result, "keyframe");
     createKeyframe(&current, result.T_w_c, &result);
+    result.T_k_c = Eigen::Isometry3d::Identity();
   }
   return result;
 }

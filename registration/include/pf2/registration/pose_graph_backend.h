@@ -32,8 +32,11 @@ class PoseGraphBackend {
     RgbdOdometry::Options verification;  // odometry used to verify loop candidates
     double odometry_translation_sigma = 0.01;  // metres, per keyframe-to-keyframe edge
     double odometry_rotation_sigma = 0.01;     // radians, per keyframe-to-keyframe edge
-    double loop_translation_sigma = 0.005;     // metres, verified loop edge
-    double loop_rotation_sigma = 0.005;        // radians, verified loop edge
+    double loop_translation_sigma = 0.01;      // metres, verified loop edge
+    double loop_rotation_sigma = 0.01;         // radians, verified loop edge
+    // A loop is only accepted when the dense verification's inlier ratio reaches this (tracking
+    // accepts less: a wrong loop costs more than a lost frame).
+    double min_loop_inlier_ratio = 0.7;
     int min_loop_gap = 10;       // a loop joins keyframes at least this many ids apart
     int max_candidates = 3;      // candidates verified per new keyframe, best-voted first
   };

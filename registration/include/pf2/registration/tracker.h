@@ -41,6 +41,9 @@ struct TrackResult {
   TrackStatus status = TrackStatus::kLost;
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();  // meaningless when lost
   int keyframe_id = -1;            // keyframe the pose is measured from (the new one if created)
+  // Pose relative to that keyframe: T_w_c = T_w_k * T_k_c with T_w_k as the map holds it now;
+  // after pose-graph corrections, keyframes().pose(keyframe_id) * T_k_c is the corrected pose.
+  Eigen::Isometry3d T_k_c = Eigen::Isometry3d::Identity();
   bool keyframe_created = false;   // this frame became a keyframe
   OdometryResult odometry;         // quality of the alignment behind the pose (or the failure)
   std::vector<std::pair<std::string, double>> stage_ms;  // this frame's sub-stage times, ms
