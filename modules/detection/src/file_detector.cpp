@@ -2,26 +2,18 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include "nearest_stamp.h"
+#include "text_lines.h"
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
 
 namespace pf2 {
 
 std::map<double, std::vector<PersonDetection>> readBoxesFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw fileError(path, "cannot open boxes file");
   std::map<double, std::vector<PersonDetection>> boxes;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
+  forEachDataLine(path, "boxes file", [&](const std::string& line, int number) {
     std::istringstream fields(line);
     double stamp = 0;
     PersonDetection p;
@@ -37,7 +29,7 @@ std::map<double, std::vector<PersonDetection>> readBoxesFile(const std::string& 
       throw fileError(path, number, "box corners out of order (x_lr < x_ul or y_lr < y_ul)");
     }
     boxes[stamp].push_back(p);
-  }
+  });
   return boxes;
 }
 

@@ -2,27 +2,20 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "nearest_stamp.h"
+#include "text_lines.h"
 #include "pf2/core/error.h"
 
 namespace pf2 {
 
 GtDetector::GtDetector(const Options& options) : options_(options) {
   const std::string path = options.gt_folder + "/boxes.txt";
-  std::ifstream in(path);
-  if (!in) throw fileError(path, "cannot open ground-truth boxes (is this a pf2_synth sequence?)");
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
+  forEachDataLine(path, "ground-truth boxes (is this a pf2_synth sequence?)", [&](const std::string& line,
+                                                                                  int number) {
     std::istringstream fields(line);
     double stamp = 0, visible = 0;
     Entry e;
@@ -42,7 +35,7 @@ GtDetector::GtDetector(const Options& options) : options_(options) {
     e.box.y_lr += 1;
     e.visible_fraction = visible;
     boxes_[stamp].push_back(e);
-  }
+  });
   if (options.provide_mask) {
     const std::string masks = options.gt_folder + "/masks";
     std::error_code error;

@@ -46,15 +46,7 @@ Detections HogDetector::detect(const Frame& frame) {
     c.score = static_cast<float>(1.0 / (1.0 + std::exp(-options_.score_gain * margin)));
     candidates.push_back(c);
   }
-  const cv::Rect2f image_rect(0, 0, static_cast<float>(frame.rgb.cols), static_cast<float>(frame.rgb.rows));
-  for (const YoloCandidate& c : suppressNonMaxima(candidates, static_cast<float>(options_.nms_iou))) {
-    const cv::Rect2f b = c.box & image_rect;
-    if (b.empty()) continue;
-    PersonDetection person;
-    person.box = PersonBox{b.x, b.y, b.x + b.width, b.y + b.height};
-    person.score = c.score;
-    detections.people.push_back(std::move(person));
-  }
+  detections.people = peopleFromCandidates(candidates, static_cast<float>(options_.nms_iou), frame.rgb.size());
   return detections;
 }
 

@@ -91,6 +91,21 @@ std::vector<YoloCandidate> suppressNonMaxima(std::vector<YoloCandidate> candidat
   return kept;
 }
 
+std::vector<PersonDetection> peopleFromCandidates(const std::vector<YoloCandidate>& candidates, float max_iou,
+                                                  const cv::Size& image) {
+  const cv::Rect2f image_rect(0, 0, static_cast<float>(image.width), static_cast<float>(image.height));
+  std::vector<PersonDetection> people;
+  for (const YoloCandidate& c : suppressNonMaxima(candidates, max_iou)) {
+    const cv::Rect2f b = c.box & image_rect;
+    if (b.empty()) continue;
+    PersonDetection person;
+    person.box = PersonBox{b.x, b.y, b.x + b.width, b.y + b.height};
+    person.score = c.score;
+    people.push_back(std::move(person));
+  }
+  return people;
+}
+
 struct YoloDetector::Impl {
   cv::dnn::Net net;
   std::vector<std::string> outputs;
@@ -143,15 +158,7 @@ Detections YoloDetector::detect(const Frame& frame) {
                                           static_cast<float>(options_.confidence), options_.person_class);
     candidates.insert(candidates.end(), decoded.begin(), decoded.end());
   }
-  const cv::Rect2f image_rect(0, 0, static_cast<float>(frame.rgb.cols), static_cast<float>(frame.rgb.rows));
-  for (const YoloCandidate& c : suppressNonMaxima(candidates, static_cast<float>(options_.nms_iou))) {
-    const cv::Rect2f b = c.box & image_rect;
-    if (b.empty()) continue;
-    PersonDetection person;
-    person.box = PersonBox{b.x, b.y, b.x + b.width, b.y + b.height};
-    person.score = c.score;
-    detections.people.push_back(std::move(person));
-  }
+  detections.people = peopleFromCandidates(candidates, static_cast<float>(options_.nms_iou), frame.rgb.size());
   return detections;
 }
 

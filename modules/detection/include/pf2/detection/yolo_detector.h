@@ -35,6 +35,10 @@ std::vector<YoloCandidate> decodeYoloOutput(const cv::Mat& output, YoloLayout la
 // Greedy non-maximum suppression: best score first, dropping boxes whose IoU with a kept box
 // exceeds max_iou. Returns the kept candidates, best first. Thread safe.
 std::vector<YoloCandidate> suppressNonMaxima(std::vector<YoloCandidate> candidates, float max_iou);
+// suppressNonMaxima, then the kept boxes clipped to the image as people (empty ones dropped).
+// Thread safe.
+std::vector<PersonDetection> peopleFromCandidates(const std::vector<YoloCandidate>& candidates, float max_iou,
+                                                  const cv::Size& image);
 
 class YoloDetector : public HumanDetector {
  public:
