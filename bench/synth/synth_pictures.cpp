@@ -35,10 +35,11 @@ cv::Mat colourLabels(const cv::Mat& labels) {
 }
 
 // The body alone, standing on the origin facing the camera, lit from the front left.
-cv::Mat renderBody(const pf2::BodyModel& model, pf2::BodyParameters parameters, const cv::Vec3f& colour) {
+// `azimuth` turns the camera around the body (0 = in front, slightly from its left).
+cv::Mat renderBody(const pf2::BodyModel& model, pf2::BodyParameters parameters, const cv::Vec3f& colour,
+                   double azimuth = 0.0) {
   // Body frame (y up, facing +z) to a z-up world, facing -y (towards the camera).
-  const Eigen::Matrix3d R_w_b = Eigen::AngleAxisd(kPi / 2.0 - kPi / 2.0, Eigen::Vector3d::UnitZ()) *
-                                Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d R_w_b = Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
   const double root_angle = parameters.pose[0].norm();
   const Eigen::Matrix3d R_local = root_angle > 0 ? Eigen::AngleAxisd(root_angle, parameters.pose[0] / root_angle).toRotationMatrix()
                                                  : Eigen::Matrix3d::Identity();
@@ -51,7 +52,6 @@ cv::Mat renderBody(const pf2::BodyModel& model, pf2::BodyParameters parameters, 
     hi = hi.cwiseMax(v);
   }
   for (auto& v : mesh.vertices) v.z() -= lo.z();  // feet on the floor
-  const double height = hi.z() - lo.z();
   pf2::RenderMesh render;
   render.vertices = mesh.vertices;
   render.triangles = mesh.triangles;
@@ -64,10 +64,12 @@ cv::Mat renderBody(const pf2::BodyModel& model, pf2::BodyParameters parameters, 
   K.fx = K.fy = 330.0;
   K.cx = 119.5;
   K.cy = 179.5;
-  const Eigen::Vector3d centre(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), 0.5 * height);
-  const Eigen::Isometry3d T_w_c = pf2::lookAt(centre + Eigen::Vector3d(1.1, -2.6, 0.35), centre);
+  // A fixed aim point 0.9 m above the floor, so that different statures compare.
+  const Eigen::Vector3d centre(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), 0.9);
+  const Eigen::Vector3d view(2.3 * std::sin(azimuth + 0.35), -2.3 * std::cos(azimuth + 0.35), 0.3);
+  const Eigen::Isometry3d T_w_c = pf2::lookAt(centre + view, centre);
   pf2::Rasterizer::Options options;
-  options.light_position_w = centre + Eigen::Vector3d(2.0, -3.0, 2.0);
+  options.light_position_w = centre + 1.5 * view + Eigen::Vector3d(0.0, 0.0, 2.0);
   pf2::RenderedImages images;
   pf2::Rasterizer(options).render({&render}, {}, K, T_w_c, &images);
   images.bgr.setTo(cv::Scalar(235, 235, 235), images.labels == 0);
@@ -111,15 +113,16 @@ int main(int argc, char** argv) {
     const pf2::JointRotations seated = pf2::sittingPose(lowering);
     for (int j = 0; j < pf2::kBodyJointCount; ++j) sitting.pose[j] = seated[j];
     cv::Mat poses;
-    cv::hconcat(std::vector<cv::Mat>{renderBody(model, rest, skin), renderBody(model, walking, skin)}, poses);
+    cv::hconcat(std::vector<cv::Mat>{renderBody(model, rest, skin), renderBody(model, walking, skin, 0.9),
+                                    renderBody(model, sitting, skin, 0.6)}, poses);
     save(dir + "body_poses.png", poses);
     pf2::BodyParameters a = walking, b = walking;
     a.shape.setZero();
     b.shape.setZero();
-    a.shape[0] = 2.0;
-    a.shape[1] = -1.5;
-    b.shape[0] = -2.0;
-    b.shape[1] = 1.5;
+    a.shape[0] = 1.8;  // tall
+    a.shape[3] = 1.8;  // and heavy
+    b.shape[0] = -1.5;
+    b.shape[3] = -1.5;
     cv::Mat shapes;
     cv::hconcat(std::vector<cv::Mat>{renderBody(model, a, cv::Vec3f(0.55f, 0.75f, 0.6f)),
                                      renderBody(model, b, cv::Vec3f(0.8f, 0.6f, 0.55f))}, shapes);

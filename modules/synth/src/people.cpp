@@ -156,10 +156,10 @@ JointRotations sittingPose(double arm_lowering) {
   r[kLeftAnkle] = Eigen::Vector3d(0.05, 0.0, 0.0);
   r[kRightAnkle] = Eigen::Vector3d(0.05, 0.0, 0.0);
   r[kSpine1] = Eigen::Vector3d(0.06, 0.0, 0.0);
-  r[kLeftShoulder] = axisAngle(rotX(-0.45) * rotZ(-arm_lowering));
-  r[kRightShoulder] = axisAngle(rotX(-0.45) * rotZ(arm_lowering));
-  r[kLeftElbow] = Eigen::Vector3d(0.0, -0.9, 0.0);
-  r[kRightElbow] = Eigen::Vector3d(0.0, 0.9, 0.0);
+  r[kLeftShoulder] = axisAngle(rotX(-0.2) * rotZ(-arm_lowering));
+  r[kRightShoulder] = axisAngle(rotX(-0.2) * rotZ(arm_lowering));
+  r[kLeftElbow] = Eigen::Vector3d(0.0, -1.3, 0.0);
+  r[kRightElbow] = Eigen::Vector3d(0.0, 1.3, 0.0);
   return r;
 }
 
@@ -183,8 +183,11 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
     HashRng rng(synth::hashOf(options.seed, static_cast<std::uint64_t>(k), 0x9e0931e));
     Person person;
     person.shape = Eigen::VectorXd::Zero(10);
+    // Stature (coefficient 0 of the default model) and girth (3) vary most; the shipped model's
+    // mean stature is 1.63 m, so coefficient 0 is centred a little above it.
     for (int i = 0; i < 10; ++i) {
-      person.shape[i] = std::min(2.0, std::max(-2.0, rng.gaussian() * (i < 2 ? 1.0 : 0.5)));
+      const double spread = (i == 0 || i == 3) ? 0.9 : 0.5;
+      person.shape[i] = std::min(2.0, std::max(-2.0, rng.gaussian() * spread + (i == 0 ? 0.3 : 0.0)));
     }
     person.colors = clothe(*model_, person.shape, &rng);
     person.arm_lowering = armLoweringAngle(*model_, person.shape);

@@ -96,6 +96,9 @@ std::vector<ScreenTriangle> project(const std::vector<const RenderMesh*>& meshes
                                     double near_plane, int x_lo, int y_lo, int x_hi, int y_hi) {
   const Eigen::Isometry3d T_c_w = T_w_c.inverse();
   std::vector<ScreenTriangle> result;
+  size_t triangle_count = 0;
+  for (const RenderMesh* mesh : meshes) triangle_count += mesh->triangles.size();
+  result.reserve(triangle_count);
   std::vector<Eigen::Vector3d> p_c;
   for (size_t m = 0; m < meshes.size(); ++m) {
     const RenderMesh& mesh = *meshes[m];
@@ -125,6 +128,25 @@ std::vector<ScreenTriangle> project(const std::vector<const RenderMesh*>& meshes
     }
   }
   return result;
+}
+
+// Pixels x0..x1 of row y inside the triangle (all three edge functions >= 0). The bounds are
+// widened by a hair so that a pixel centre exactly on a shared edge is never missed by both sides.
+bool rowSpan(const ScreenTriangle& t, int y, int* x0, int* x1) {
+  double lo = t.min_x, hi = t.max_x;
+  for (int k = 0; k < 3; ++k) {
+    const double offset = t.b[k] * y + t.c[k];
+    if (t.a[k] > 0.0) {
+      lo = std::max(lo, -offset / t.a[k] - 1e-9);
+    } else if (t.a[k] < 0.0) {
+      hi = std::min(hi, -offset / t.a[k] + 1e-9);
+    } else if (offset < -1e-12) {
+      return false;
+    }
+  }
+  *x0 = static_cast<int>(std::ceil(lo));
+  *x1 = static_cast<int>(std::floor(hi));
+  return *x0 <= *x1;
 }
 
 Eigen::Vector3f sampleBilinear(const cv::Mat& texture, float u, float v) {
@@ -183,13 +205,15 @@ void Rasterizer::render(const std::vector<const RenderMesh*>& meshes, const Text
       const ScreenTriangle& t = screen[index];
       const int y0 = std::max(t.min_y, y_begin), y1 = std::min(t.max_y, y_end - 1);
       for (int y = y0; y <= y1; ++y) {
+        int x0 = 0, x1 = 0;
+        if (!rowSpan(t, y, &x0, &x1)) continue;
         float* z_row = inv_z.data() + static_cast<size_t>(y) * width;
         int* owner_row = owner.data() + static_cast<size_t>(y) * width;
-        for (int x = t.min_x; x <= t.max_x; ++x) {
-          const double w0 = t.a[0] * x + t.b[0] * y + t.c[0];
-          const double w1 = t.a[1] * x + t.b[1] * y + t.c[1];
+        const double w0_row = t.b[0] * y + t.c[0], w1_row = t.b[1] * y + t.c[1];
+        for (int x = x0; x <= x1; ++x) {
+          const double w0 = t.a[0] * x + w0_row;
+          const double w1 = t.a[1] * x + w1_row;
           const double w2 = 1.0 - w0 - w1;
-          if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
           const float iz = static_cast<float>(w0 * t.inv_z[0] + w1 * t.inv_z[1] + w2 * t.inv_z[2]);
           if (iz > z_row[x]) {
             z_row[x] = iz;
