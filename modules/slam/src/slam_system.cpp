@@ -233,7 +233,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
       FrameRecord record{frame.timestamp, result.status != TrackStatus::kLost, result.keyframe_id,
                          Eigen::Isometry3d::Identity()};
       if (record.has_pose) {
-        record.T_k_c = tracker.keyframes().pose(result.keyframe_id).inverse() * result.T_w_c;
+        record.T_k_c = result.T_k_c;
         T_w_prevprev = T_w_prev;
         T_w_prev = result.T_w_c;
         ++poses_in_row;
