@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# End-to-end benchmark: pf2_slam on pf2_synth sequences with people, for every camera motion,
+# with the human filter (ground-truth boxes, Dual-BBox filter) and without it (--detector none).
+# Prints one markdown row per run: ATE RMSE, lost frames, end-to-end fps and the median per stage.
+#
+# Usage: bench/slam_benchmark.sh [BUILD_DIR] [WORK_DIR] [FRAMES] [PEOPLE]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${1:-$root/build}"
+work="${2:-/tmp/pf2_slam_benchmark}"
+frames="${3:-300}"
+people="${4:-3}"
+mkdir -p "$work"
+
+json_field() {  # json_field FILE KEY -> the number after "KEY":
+  grep -o "\"$2\":[-0-9.e]*" "$1" | head -n 1 | cut -d: -f2
+}
+stage_median() {  # stage_median STATS_JSON STAGE
+  grep -o "\"$2\":{\"count\":[0-9]*,\"median_ms\":[0-9.]*" "$1" | head -n 1 | sed 's/.*median_ms"://'
+}
+
+echo "| camera | people | frames | detector | ATE RMSE (m) | ATE max (m) | lost | fps end-to-end | track median (ms) | filter median (ms) |"
+echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+for camera in static xyz halfsphere rpy loop; do
+  n=$frames
+  [ "$camera" = loop ] && n=$((frames * 3))
+  sequence="$work/${camera}_p${people}_n${n}"
+  [ -f "$sequence/groundtruth.txt" ] || "$build/apps/pf2_synth" "$sequence" --frames "$n" \
+      --people "$people" --camera "$camera" --seed 1 >/dev/null
+  for detector in gt none; do
+    out="$work/run_${camera}_${detector}"
+    "$build/apps/pf2_slam" "$sequence" -o "$out" --detector "$detector" --no-map --quiet >/dev/null
+    "$build/apps/pf2_eval" "$sequence/groundtruth.txt" "$out/trajectory.txt" --json | tail -n 1 > "$out/ate.json"
+    printf '| %s | %s | %s | %s | %.4f | %.4f | %s | %.1f | %.1f | %s |\n' "$camera" "$people" "$n" \
+      "$detector" "$(json_field "$out/ate.json" ate_rmse)" "$(json_field "$out/ate.json" ate_max)" \
+      "$(json_field "$out/stats.json" lost)" "$(json_field "$out/stats.json" fps)" \
+      "$(stage_median "$out/stats.json" track)" "$(stage_median "$out/stats.json" filter || echo -)"
+  done
+done
