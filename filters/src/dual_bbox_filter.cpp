@@ -45,12 +45,18 @@ cv::Mat dilated(const cv::Mat& mask, int radius) {
   return out;
 }
 
-// Forward-warps depth (and a companion CV_8U image) into another view, nearest point wins.
-void warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
-                       const CameraIntrinsics& K, const Eigen::Isometry3d& T_dst_src,
-                       cv::Mat* depth_dst, cv::Mat* companion_dst) {
-  *depth_dst = cv::Mat::zeros(depth_src.size(), CV_32F);
-  if (companion_dst) *companion_dst = cv::Mat::zeros(depth_src.size(), CV_8U);
+// Forward-warps depth (and a companion CV_8U image) into another view, nearest point wins. The
+// outputs are reused when they already have the right size. Returns the bounds of what landed.
+cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
+                           const CameraIntrinsics& K, const Eigen::Isometry3d& T_dst_src,
+                           cv::Mat* depth_dst, cv::Mat* companion_dst) {
+  depth_dst->create(depth_src.size(), CV_32F);
+  depth_dst->setTo(0);
+  if (companion_dst) {
+    companion_dst->create(depth_src.size(), CV_8U);
+    companion_dst->setTo(0);
+  }
+  int u_min = depth_src.cols, v_min = depth_src.rows, u_max = -1, v_max = -1;
   const Eigen::Matrix3f R = T_dst_src.linear().cast<float>();
   const Eigen::Vector3f t = T_dst_src.translation().cast<float>();
   const float fx = K.fx, fy = K.fy, cx = K.cx, cy = K.cy;
@@ -71,6 +77,10 @@ void warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
       const float vf = fy * p_dst.y() / p_dst.z() + cy + 0.5f;
       if (!(uf >= 0.f && vf >= 0.f && uf < width && vf < height)) continue;  // also rejects NaN
       const int ud = static_cast<int>(uf), vd = static_cast<int>(vf);  // round to nearest
+      u_min = std::min(u_min, ud);
+      u_max = std::max(u_max, ud);
+      v_min = std::min(v_min, vd);
+      v_max = std::max(v_max, vd);
       float& target = depth_dst->at<float>(vd, ud);
       if (target == 0.f || p_dst.z() < target) {
         target = p_dst.z();
@@ -78,6 +88,7 @@ void warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
       }
     }
   }
+  return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
 }
 
 }  // namespace
@@ -169,7 +180,7 @@ cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
 
 cv::Mat warpDepth(const cv::Mat& depth_src, const CameraIntrinsics& intrinsics,
                   const Eigen::Isometry3d& T_dst_src) {
-  cv::Mat out;
+  cv::Mat out;  // a fresh image: the caller keeps it
   warpWithCompanion(depth_src, cv::Mat(), intrinsics, T_dst_src, &out, nullptr);
   return out;
 }
@@ -282,38 +293,42 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     }
   }
 
-  cv::Mat age;  // frames since a box supported each removed pixel (temporal addition)
+  // Temporal addition. All images are members reused from frame to frame (fresh full-size
+  // images cost more in page faults than the work itself); the area-sized steps run on ROIs of
+  // them with isolated borders.
+  cv::Mat& age = age_;  // frames since a box supported each removed pixel
   if (o.temporal) {
-    age = cv::Mat::zeros(size, CV_8U);
+    age.create(size, CV_8U);
+    age.setTo(0);
     if (!previous_depth_.empty() && previous_depth_.size() == size) {
-      cv::Mat warped, warped_age;
-      warpWithCompanion(previous_depth_, previous_age_, intrinsics_, T_cur_prev, &warped, &warped_age);
-      const cv::Rect bounds = cv::boundingRect(warped > 0);
+      const cv::Rect bounds =
+          warpWithCompanion(previous_depth_, previous_age_, intrinsics_, T_cur_prev, &warped_, &warped_age_);
       if (!bounds.empty()) {
         const int r = std::max(0, o.temporal_dilation);
         const cv::Rect area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
                               cv::Rect(0, 0, size.width, size.height);
         // Nearest and farthest moved depth around each pixel, and the youngest age there.
-        cv::Mat inverse = cv::Mat::zeros(area.size(), CV_32F);
-        cv::Mat age_or_max(area.size(), CV_8U, cv::Scalar(255));
-        for (int v = 0; v < area.height; ++v) {
-          const float* w = warped.ptr<float>(v + area.y) + area.x;
-          const uint8_t* a = warped_age.ptr<uint8_t>(v + area.y) + area.x;
-          float* inv = inverse.ptr<float>(v);
-          uint8_t* am = age_or_max.ptr<uint8_t>(v);
-          for (int u = 0; u < area.width; ++u) {
-            if (w[u] > 0.f) {
-              inv[u] = 1.f / w[u];
-              am[u] = a[u];
-            }
+        for (cv::Mat* m : {&inverse_, &nearest_inverse_, &farthest_}) m->create(size, CV_32F);
+        for (cv::Mat* m : {&age_or_max_, &youngest_}) m->create(size, CV_8U);
+        for (int v = area.y; v < area.y + area.height; ++v) {
+          const float* w = warped_.ptr<float>(v);
+          const uint8_t* a = warped_age_.ptr<uint8_t>(v);
+          float* inv = inverse_.ptr<float>(v);
+          uint8_t* am = age_or_max_.ptr<uint8_t>(v);
+          for (int u = area.x; u < area.x + area.width; ++u) {
+            const bool moved = w[u] > 0.f;
+            inv[u] = moved ? 1.f / w[u] : 0.f;
+            am[u] = moved ? a[u] : 255;
           }
         }
         // A square kernel: OpenCV runs it as separable row and column passes (an ellipse is ~10x slower).
         const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
-        cv::Mat nearest_inverse, farthest, youngest;
-        cv::dilate(inverse, nearest_inverse, kernel);
-        cv::dilate(warped(area), farthest, kernel);
-        cv::erode(age_or_max, youngest, kernel);
+        const int border = cv::BORDER_CONSTANT | cv::BORDER_ISOLATED;
+        const cv::Point anchor(-1, -1);
+        cv::Mat nearest_inverse = nearest_inverse_(area), farthest = farthest_(area), youngest = youngest_(area);
+        cv::dilate(inverse_(area), nearest_inverse, kernel, anchor, 1, border, cv::Scalar(0));
+        cv::dilate(warped_(area), farthest, kernel, anchor, 1, border, cv::Scalar(0));
+        cv::erode(age_or_max_(area), youngest, kernel, anchor, 1, border, cv::Scalar(255));
         const float margin = static_cast<float>(o.temporal_margin);
         for (int v = 0; v < area.height; ++v) {
           const float* d = depth.ptr<float>(v + area.y) + area.x;
@@ -402,7 +417,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
         p[u] = ((s[u] != kKept && s[u] != kRemoved) || a[u] > 0) ? d[u] : 0.f;
       }
     }
-    previous_age_ = age;  // zero (box-supported) except for temporally guarded pixels
+    std::swap(previous_age_, age_);  // zero (box-supported) except for temporally guarded pixels
   }
   return result;
 }

@@ -164,6 +164,7 @@ class DualBBoxFilter {
   std::shared_ptr<DynamicEvidence> evidence_;
   // Working images kept between calls: allocating them anew costs more than filling them.
   cv::Mat depth_, state_, outside_;
+  cv::Mat age_, warped_, warped_age_, inverse_, nearest_inverse_, farthest_, age_or_max_, youngest_;
   cv::Mat previous_depth_;  // depth of last frame's removed pixels, 0 elsewhere
   cv::Mat previous_age_;    // CV_8U frames since a box last supported each removed pixel
 };
