@@ -18,13 +18,14 @@
 namespace pf2 {
 namespace {
 
-// Small and fast: 320 x 240, exact depth unless a test asks for noise.
+// Small and fast: 320 x 240, coarse textures, exact depth unless a test asks for noise.
 SyntheticSequence::Options smallOptions(int frames, int people) {
   SyntheticSequence::Options options;
   options.frames = frames;
   options.people = people;
   options.intrinsics = CameraIntrinsics::tumFreiburg3().scaled(0.5);
   options.sensor.noise = false;
+  options.texels_per_metre = 32;  // coarse textures bake fast; geometry is what these tests check
   return options;
 }
 

@@ -5,6 +5,7 @@
 
 #include "pf2/core/error.h"
 #include "hash_random.h"
+#include "parallel_for.h"
 
 namespace pf2 {
 
@@ -50,8 +51,7 @@ cv::Mat DepthSensorModel::apply(const cv::Mat& depth, const CameraIntrinsics& K,
   const double fb = K.fx * options_.baseline;  // disparity (pixels) times depth (metres)
   const float lo = static_cast<float>(options_.min_depth), hi = static_cast<float>(options_.max_depth);
 
-#pragma omp parallel for schedule(static)
-  for (int v = 0; v < rows; ++v) {
+  synth::parallelFor(0, rows, true, [&](int v) {
     const float* in = depth.ptr<float>(v);
     float* out = result.ptr<float>(v);
     // The projector sits to the camera's right: a pixel is in its shadow when a nearer surface
@@ -90,7 +90,7 @@ cv::Mat DepthSensorModel::apply(const cv::Mat& depth, const CameraIntrinsics& K,
     for (int u = 0; u < cols; ++u) {
       if (out[u] < lo || out[u] > hi) out[u] = 0.0f;
     }
-  }
+  });
   if (options_.misalign_px == 0) return result;
   cv::Mat shifted(rows, cols, CV_32F, cv::Scalar(0.0f));
   const int s = options_.misalign_px;

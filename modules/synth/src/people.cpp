@@ -233,9 +233,17 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
       if (turn > 0.05) add(Segment::Kind::kTurn, std::max(0.3, turn / 2.5), position, yaw + wrapAngle(heading - yaw));
       add(Segment::Kind::kWalk, d.norm() / speed, target, yaw);
     };
+    if (k == 0 && can_sit) {
+      // As in TUM fr3/walking_*, someone sits at the desk when the recording starts.
+      const StaticScene::Seat& seat = scene.seats()[0];
+      position = seat.position_w.head<2>() + 0.37 * Eigen::Vector2d(std::cos(seat.yaw), std::sin(seat.yaw));
+      yaw = seat.yaw;
+      add(Segment::Kind::kSit, rng.uniform(2.0, 5.0), seat.position_w.head<2>(), yaw)->seat = 0;
+      add(Segment::Kind::kStandUp, 1.2, position, yaw)->seat = 0;
+    }
     while (t < options.duration + 2.0) {
       const double r = rng.uniform(0, 1);
-      if (can_sit && r < 0.2) {
+      if (can_sit && r < 0.25) {
         const StaticScene::Seat& seat = scene.seats()[k];
         const Eigen::Vector2d facing(std::cos(seat.yaw), std::sin(seat.yaw));
         const Eigen::Vector2d approach = seat.position_w.head<2>() + 0.37 * facing;

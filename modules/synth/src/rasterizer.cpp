@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "parallel_for.h"
 namespace pf2 {
 
 void RenderMesh::computeVertexNormals() {
@@ -196,8 +197,7 @@ void Rasterizer::render(const std::vector<const RenderMesh*>& meshes, const Text
   const float ambient = static_cast<float>(options_.ambient);
   const float diffuse = static_cast<float>(options_.diffuse);
 
-#pragma omp parallel for schedule(dynamic, 1) if (options_.parallel)
-  for (int band = 0; band < bands; ++band) {
+  synth::parallelFor(0, bands, options_.parallel, [&](int band) {
     const int y_begin = band * band_height;
     const int y_end = std::min(height, y_begin + band_height);
     // Visibility: nearest surface (largest 1/z) wins; ties keep the earlier triangle.
@@ -278,7 +278,7 @@ void Rasterizer::render(const std::vector<const RenderMesh*>& meshes, const Text
         label_row[x] = mesh.label;
       }
     }
-  }
+  });
 }
 
 double Rasterizer::unboundedCoverage(const RenderMesh& mesh, const CameraIntrinsics& K,

@@ -9,6 +9,7 @@
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
 #include "hash_random.h"
+#include "parallel_for.h"
 
 namespace pf2 {
 
@@ -90,11 +91,11 @@ Material randomMaterial(HashRng* rng, Style style, double saturation, double val
 }
 
 Eigen::Vector3f shadeTexel(const Material& m, double s, double t) {
-  const double fine = fbm(m.seed ^ 0x5151, s, t, 0.035, 3);  // 1-3 cm detail everywhere
+  const double fine = fbm(m.seed ^ 0x5151, s, t, 0.03, 2);  // 1-3 cm detail everywhere
   double mix = 0.0;
   switch (m.style) {
     case Style::kNoise:
-      mix = fbm(m.seed, s, t, m.period, 5);
+      mix = fbm(m.seed, s, t, m.period, 4);
       mix = std::min(1.0, std::max(0.0, (mix - 0.5) * 2.2 + 0.5));
       break;
     case Style::kChecker: {
@@ -146,8 +147,7 @@ Eigen::Vector3f shadeTexel(const Material& m, double s, double t) {
 
 cv::Mat bakeTexture(const Material& m, int cols, int rows, double texels_per_metre) {
   cv::Mat texture(rows, cols, CV_8UC3);
-#pragma omp parallel for schedule(static)
-  for (int v = 0; v < rows; ++v) {
+  synth::parallelFor(0, rows, rows * cols > 50000, [&](int v) {
     cv::Vec3b* row = texture.ptr<cv::Vec3b>(v);
     for (int u = 0; u < cols; ++u) {
       const Eigen::Vector3f c = shadeTexel(m, u / texels_per_metre, v / texels_per_metre);
@@ -155,7 +155,7 @@ cv::Mat bakeTexture(const Material& m, int cols, int rows, double texels_per_met
         row[u][ch] = static_cast<std::uint8_t>(std::min(255.0f, std::max(0.0f, c[ch] * 255.0f + 0.5f)));
       }
     }
-  }
+  });
   return texture;
 }
 
@@ -265,7 +265,7 @@ StaticScene::StaticScene(const Options& options) : options_(options) {
   b.box({2.2, 3.55, 0.76}, {2.45, 3.75, 0.9}, b.material(Style::kChecker, 0.8, 0.8));
 
   // Two chairs beside the desk ends, facing the camera side (-y); people sit on them.
-  for (const double cx : {1.4, 4.6}) {
+  for (const double cx : {1.62, 4.38}) {
     const Material chair = b.material(Style::kStripes, 0.7, 0.6);
     const double cy = 3.65;
     b.box({cx - 0.22, cy - 0.22, 0.42}, {cx + 0.22, cy + 0.22, 0.47}, chair);  // seat

@@ -16,6 +16,7 @@
 #include "pf2/io/trajectory_io.h"
 #include "pf2/synth/people.h"
 #include "hash_random.h"
+#include "parallel_for.h"
 
 namespace pf2 {
 
@@ -57,8 +58,7 @@ void motionBlur(const cv::Mat& bgr, const cv::Mat& depth, const cv::Mat& labels,
   const Eigen::Matrix3d R_w_c = T_w_c.linear();
   *blurred_bgr = bgr.clone();
   *mixed_depth = depth.clone();
-#pragma omp parallel for schedule(static)
-  for (int v = 0; v < bgr.rows; ++v) {
+  synth::parallelFor(0, bgr.rows, true, [&](int v) {
     for (int u = 0; u < bgr.cols; ++u) {
       const float z = depth.at<float>(v, u);
       if (!(z > 0.0f)) continue;
@@ -100,7 +100,7 @@ void motionBlur(const cv::Mat& bgr, const cv::Mat& depth, const cv::Mat& labels,
       if (count > 0) blurred_bgr->at<cv::Vec3b>(v, u) = cv::Vec3b(sum / static_cast<float>(count) + cv::Vec3f(0.5f, 0.5f, 0.5f));
       if (depth_count > 0 && z_max - z_min > 0.05f * z) mixed_depth->at<float>(v, u) = z_sum / depth_count;
     }
-  }
+  });
 }
 
 const char* const kGroundTruthReadme = R"(# Ground truth of a synthetic PoseFusion2 sequence

@@ -27,7 +27,7 @@ class Rasterizer {
     double diffuse = 0.72;                            // Lambert share of the albedo, [0, 1]
     double near_plane = 0.05;                         // triangles are clipped at this camera z, metres
     int bands = 24;                                   // horizontal image bands rendered in parallel
-    bool parallel = true;                             // use OpenMP threads over the bands
+    bool parallel = true;                             // render the bands on all hardware threads
   };
 
   Rasterizer() = default;
