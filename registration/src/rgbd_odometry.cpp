@@ -239,7 +239,8 @@ OdometryFrame RgbdOdometry::prepare(const Frame& frame, const cv::Mat& person_ma
     if (undistort_->map_x.empty() || undistort_->size != gray.size() || c.fx != k.fx ||
         c.fy != k.fy || c.cx != k.cx || c.cy != k.cy) {
       const cv::Matx33d K(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
-      cv::initUndistortRectifyMap(K, options_.distortion, cv::noArray(), K, gray.size(), CV_32FC1,
+      // Fixed-point maps remap about twice as fast as float ones.
+      cv::initUndistortRectifyMap(K, options_.distortion, cv::noArray(), K, gray.size(), CV_16SC2,
                                   undistort_->map_x, undistort_->map_y);
       undistort_->size = gray.size();
       undistort_->intrinsics = k;
