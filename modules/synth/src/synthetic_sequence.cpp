@@ -146,6 +146,19 @@ std::shared_ptr<const StaticScene> sharedScene(std::uint64_t seed, double texels
   return scene;
 }
 
+// Loading the default body model takes a quarter of a second; sequences share it.
+std::shared_ptr<const BodyModel> sharedDefaultBodyModel() {
+  static std::mutex mutex;
+  static std::weak_ptr<const BodyModel> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  std::shared_ptr<const BodyModel> model = cache.lock();
+  if (!model) {
+    model = std::make_shared<const BodyModel>(BodyModel::loadDefault());
+    cache = model;
+  }
+  return model;
+}
+
 }  // namespace
 
 SyntheticSequence::SyntheticSequence(const Options& options)
@@ -162,7 +175,7 @@ SyntheticSequence::SyntheticSequence(const Options& options)
   }
   scene_ = sharedScene(options.seed, options.texels_per_metre);
   std::shared_ptr<const BodyModel> model;
-  if (options.people > 0) model = std::make_shared<BodyModel>(BodyModel::loadDefault());
+  if (options.people > 0) model = sharedDefaultBodyModel();
   Crowd::Options crowd_options;
   crowd_options.people = options.people;
   crowd_options.seed = options.seed;

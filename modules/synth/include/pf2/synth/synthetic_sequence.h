@@ -92,6 +92,7 @@ class SyntheticSequence : public FrameSource {
   // Writes the TUM folder (rgb/, depth/, rgb.txt, depth.txt, groundtruth.txt, camera.txt) and gt/
   // into out_dir (created if needed). Every file is written atomically. `progress` (optional) is
   // called after each frame with the number of frames done. Throws pf2::Error naming the file.
+  // Thread safe (const), but two calls must not write the same folder.
   void writeTumFolder(const std::string& out_dir,
                       const std::function<void(size_t)>& progress = nullptr) const;
 
