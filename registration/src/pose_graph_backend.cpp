@@ -3,6 +3,21 @@
 #include "pf2/core/error.h"
 
 namespace pf2 {
+namespace {
+
+PoseGraph::Edge makeEdge(int from, int to, const Eigen::Isometry3d& T_from_to,
+                         double translation_sigma, double rotation_sigma, bool loop) {
+  PoseGraph::Edge edge;
+  edge.from = from;
+  edge.to = to;
+  edge.T_from_to = T_from_to;
+  edge.translation_sigma = translation_sigma;
+  edge.rotation_sigma = rotation_sigma;
+  edge.loop = loop;
+  return edge;
+}
+
+}  // namespace
 
 PoseGraphBackend::PoseGraphBackend(const Options& options, KeyframeMap* map, LoopDetector* loops)
     : options_(options), map_(map), loops_(loops), verifier_(options.verification),
@@ -103,13 +118,9 @@ void PoseGraphBackend::process(const Pending& pending) {
   if (pending.reference_id >= 0 && pending.reference_id != pending.id &&
       graph_.hasNode(pending.reference_id)) {
     graph_.addNode(pending.id, graph_.pose(pending.reference_id) * pending.T_ref_k);
-    PoseGraph::Edge edge;
-    edge.from = pending.reference_id;
-    edge.to = pending.id;
-    edge.T_from_to = pending.T_ref_k;
-    edge.translation_sigma = options_.odometry_translation_sigma;
-    edge.rotation_sigma = options_.odometry_rotation_sigma;
-    graph_.addEdge(edge);
+    graph_.addEdge(makeEdge(pending.reference_id, pending.id, pending.T_ref_k,
+                            options_.odometry_translation_sigma, options_.odometry_rotation_sigma,
+                            false));
   } else {
     graph_.addNode(pending.id, map_->pose(pending.id));
   }
@@ -125,13 +136,9 @@ void PoseGraphBackend::process(const Pending& pending) {
       const OdometryFrame old = verifier_.prepare(*map_->keyframe(candidate.keyframe_id));
       const OdometryResult check = verifier_.estimateWithoutPrior(old, &current);
       if (!check.valid || check.dense.inlier_ratio < options_.min_loop_inlier_ratio) continue;
-      PoseGraph::Edge edge;
-      edge.from = candidate.keyframe_id;
-      edge.to = pending.id;
-      edge.T_from_to = check.T_ref_cur;
-      edge.translation_sigma = options_.loop_translation_sigma;
-      edge.rotation_sigma = options_.loop_rotation_sigma;
-      edge.loop = true;
+      const PoseGraph::Edge edge =
+          makeEdge(candidate.keyframe_id, pending.id, check.T_ref_cur,
+                   options_.loop_translation_sigma, options_.loop_rotation_sigma, true);
       graph_.addEdge(edge);
       closed = true;
       std::lock_guard<std::mutex> lock(queue_mutex_);
