@@ -174,6 +174,9 @@ double armLoweringAngle(const BodyModel& model, const Eigen::VectorXd& shape) {
 Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<const BodyModel> model)
     : options_(options), model_(std::move(model)) {
   if (options.people < 0 || options.people > 5) throw Error("people must be between 0 and 5");
+  if (!(options.min_speed > 0.0 && options.max_speed >= options.min_speed)) {
+    throw Error("walking speeds must be positive, min_speed <= max_speed");
+  }
   if (options.people > 0 && !model_) throw Error("people need a body model");
   const Eigen::Vector4d area = scene.walkableArea();
   const auto randomPoint = [&area](HashRng* rng) {
@@ -199,7 +202,7 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
     float sole = rest_mesh.vertices.empty() ? 0.0f : rest_mesh.vertices[0].y();
     for (const auto& v : rest_mesh.vertices) sole = std::min(sole, v.y());
     person.rest_pelvis_height = person.rest_pelvis.y() - sole;
-    const double speed = rng.uniform(0.8, 1.25);  // m/s
+    const double speed = rng.uniform(options.min_speed, options.max_speed);  // m/s
     person.stride = 1.0 + 0.35 * speed;
 
     // The script: from a random start, walk to points near the camera, out of view or anywhere
@@ -233,7 +236,7 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
       if (turn > 0.05) add(Segment::Kind::kTurn, std::max(0.3, turn / 2.5), position, yaw + wrapAngle(heading - yaw));
       add(Segment::Kind::kWalk, d.norm() / speed, target, yaw);
     };
-    if (k == 0 && can_sit) {
+    if (k == 0 && can_sit && options.first_person_seated) {
       // As in TUM fr3/walking_*, someone sits at the desk when the recording starts.
       const StaticScene::Seat& seat = scene.seats()[0];
       position = seat.position_w.head<2>() + 0.37 * Eigen::Vector2d(std::cos(seat.yaw), std::sin(seat.yaw));
@@ -243,7 +246,7 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
     }
     while (t < options.duration + 2.0) {
       const double r = rng.uniform(0, 1);
-      if (can_sit && r < 0.25) {
+      if (can_sit && r < options.sit_probability) {
         const StaticScene::Seat& seat = scene.seats()[k];
         const Eigen::Vector2d facing(std::cos(seat.yaw), std::sin(seat.yaw));
         const Eigen::Vector2d approach = seat.position_w.head<2>() + 0.37 * facing;
@@ -254,18 +257,20 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
         add(Segment::Kind::kSitDown, 1.2, seat_xy, yaw)->seat = k;
         add(Segment::Kind::kSit, rng.uniform(3.0, 8.0), seat_xy, yaw)->seat = k;
         add(Segment::Kind::kStandUp, 1.2, approach, yaw)->seat = k;
-      } else if (r < 0.35) {
+      } else if (r < (can_sit ? options.sit_probability : 0.0) + options.stand_probability) {
         add(Segment::Kind::kStand, rng.uniform(1.0, 3.5), position, yaw);
       } else {
         const double kind = rng.uniform(0, 1);
         Eigen::Vector2d target;
-        if (kind < 0.25) {  // close in front of the camera
+        const double close = options.close_pass_probability;
+        const double leave = close + options.leave_view_probability;
+        if (kind < close) {  // close in front of the camera
           target = Eigen::Vector2d(rng.uniform(2.3, 3.7), rng.uniform(area[1], area[1] + 0.35));
-        } else if (kind < 0.45) {  // out of view at the sides
+        } else if (kind < leave) {  // out of view at the sides
           target = Eigen::Vector2d(rng.uniform(0, 1) < 0.5 ? rng.uniform(area[0], area[0] + 0.4)
                                                             : rng.uniform(area[2] - 0.4, area[2]),
                                    rng.uniform(area[1], area[1] + 1.0));
-        } else if (kind < 0.8) {  // across the middle of the view
+        } else if (kind < leave + options.middle_probability) {  // across the middle of the view
           target = Eigen::Vector2d(rng.uniform(1.8, 4.2), rng.uniform(area[1] + 0.5, area[3]));
         } else {
           target = randomPoint(&rng);

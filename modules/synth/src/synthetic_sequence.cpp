@@ -176,7 +176,7 @@ SyntheticSequence::SyntheticSequence(const Options& options)
   scene_ = sharedScene(options.seed, options.texels_per_metre);
   std::shared_ptr<const BodyModel> model;
   if (options.people > 0) model = sharedDefaultBodyModel();
-  Crowd::Options crowd_options;
+  Crowd::Options crowd_options = options.crowd;
   crowd_options.people = options.people;
   crowd_options.seed = options.seed;
   crowd_options.duration = options.frames / options.fps;

@@ -31,9 +31,17 @@ double armLoweringAngle(const BodyModel& model, const Eigen::VectorXd& shape);
 class Crowd {
  public:
   struct Options {
-    int people = 3;            // 0 .. 5
-    std::uint64_t seed = 1;    // shapes, clothes, scripts
-    double duration = 10.0;    // seconds the scripts must cover
+    int people = 3;                        // 0 .. 5
+    std::uint64_t seed = 1;                // shapes, clothes, scripts
+    double duration = 10.0;                // seconds the scripts must cover
+    double min_speed = 0.8;                // walking speed range, m/s
+    double max_speed = 1.25;               // m/s
+    double sit_probability = 0.25;         // next action: sit down (people 1 and 2 own a chair)
+    double stand_probability = 0.1;        // next action: stand still for 1 to 3.5 s
+    double close_pass_probability = 0.25;  // a walk ends 0.7-1.1 m in front of the camera
+    double leave_view_probability = 0.2;   // a walk ends out of view at the room's sides
+    double middle_probability = 0.35;      // a walk ends in the middle of the view (else anywhere)
+    bool first_person_seated = true;       // person 1 sits at the desk when the sequence starts
   };
 
   // One posed person: the parameters (world frame) and the mesh they give.

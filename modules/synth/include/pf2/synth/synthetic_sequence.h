@@ -25,12 +25,11 @@
 #include "pf2/core/frame_source.h"
 #include "pf2/synth/camera_motion.h"
 #include "pf2/synth/depth_sensor_model.h"
+#include "pf2/synth/people.h"
 #include "pf2/synth/rasterizer.h"
 #include "pf2/synth/static_scene.h"
 
 namespace pf2 {
-
-class Crowd;
 
 // One person in one frame, world frame of the sequence.
 struct PersonGroundTruth {
@@ -66,6 +65,8 @@ class SyntheticSequence : public FrameSource {
     double texels_per_metre = 128;          // scene texture resolution
     DepthSensorModel::Options sensor;       // noise on/off, range, misalignment
     Rasterizer::Options rasterizer;         // lighting, threads
+    Crowd::Options crowd;                   // walking speeds, how often people sit, stand, pass close;
+                                            // its people, seed and duration come from the fields above
   };
 
   // Builds the scene and the people's scripts. Throws pf2::Error on invalid options (and when
