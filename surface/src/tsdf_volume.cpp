@@ -162,7 +162,9 @@ void TsdfVolume::update(const cv::Mat& depth, const cv::Mat& bgr, const CameraIn
   const unsigned char* bgr_data = colour ? bgr.ptr<unsigned char>(0) : nullptr;
   const std::size_t bgr_step = colour ? bgr.step1() : 0;
   std::vector<char> emptied(work.size(), 0);
-  surface_detail::parallelChunks(work.size(), options_.num_threads, 16, [&](int, std::size_t begin, std::size_t end) {
+  // The worker copies what it reads in the inner loop (captures by value), so the compiler keeps
+  // it in registers instead of reloading through the closure.
+  const auto update_blocks = [=, &work, &emptied](int, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       Block& block = *work[i].second;
       const Eigen::Vector3f origin_w = (work[i].first * kSide).cast<float>() * voxel;
@@ -207,7 +209,8 @@ void TsdfVolume::update(const cv::Mat& depth, const cv::Mat& bgr, const CameraIn
       for (const Voxel& vox : block.voxels) any_weight = any_weight || vox.weight > 0.f;
       emptied[i] = !any_weight;
     }
-  });
+  };
+  surface_detail::parallelChunks(work.size(), options_.num_threads, 16, update_blocks);
   for (std::size_t i = 0; i < work.size(); ++i) {
     if (emptied[i]) blocks_.erase(work[i].first);
   }
