@@ -9,6 +9,7 @@
 #include <iostream>
 #include <iterator>
 #include <regex>
+#include <sstream>
 #include <memory>
 #include <string>
 
@@ -36,8 +37,8 @@ const char* kUsage =
     "of the kept depth and retention of static depth.\n"
     "\n"
     "Detector:\n"
-    "  --detector NAME        gt | hog | file | yolo | selfie | movenet (those built in; default\n"
-    "                         gt when SEQUENCE_DIR/gt exists, else hog)\n"
+    "  --detector NAME        gt | hog | file | yolo | selfie | movenet | learned (those built in;\n"
+    "                         default gt when SEQUENCE_DIR/gt exists, else hog)\n"
     "  --gt-dir DIR           ground-truth folder (default SEQUENCE_DIR/gt)\n"
     "  --gt-mask              gt: hand the ground-truth person masks to the filter\n"
     "  --gt-misalign PX       depth lies PX pixels right of the gt masks, for the metrics (default:\n"
@@ -49,6 +50,8 @@ const char* kUsage =
     "  --yolo-layout L        yolo: auto | darknet | v5 | v8 (default auto)\n"
     "  --hog-scale S          hog: image scale before detection (default 1.0)\n"
     "  --model FILE           model file of a plug-in backend (selfie, movenet)\n"
+    "  --backend-options L    more plug-in backend options, 'key=value,key=value' (e.g.\n"
+    "                         selfie.threshold=0.6; each backend documents its keys)\n"
     "Degradation of the detections (any detector; deterministic per frame):\n"
     "  --shrink F             boxes lose fraction F of width and height (default 0)\n"
     "  --shift PX             boxes (and masks) move PX pixels in a random direction (default 0)\n"
@@ -143,6 +146,17 @@ int run(int argc, char** argv) {
   detector_options.yolo.layout = cli.value("--yolo-layout", "auto");
   detector_options.hog.image_scale = cli.number("--hog-scale", 1.0);
   if (const auto model = cli.value("--model")) detector_options.extra["model"] = *model;
+  if (const auto list = cli.value("--backend-options")) {
+    std::stringstream items(*list);
+    std::string item;
+    while (std::getline(items, item, ',')) {
+      const auto equals = item.find('=');
+      if (equals == std::string::npos || equals == 0) {
+        throw pf2::Error("--backend-options: expected key=value, got '" + item + "'");
+      }
+      detector_options.extra[item.substr(0, equals)] = item.substr(equals + 1);
+    }
+  }
   pf2::BoxDegradation degradation;
   degradation.shrink = cli.number("--shrink", 0.0);
   degradation.shift = cli.number("--shift", 0.0);

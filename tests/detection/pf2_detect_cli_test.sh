@@ -44,4 +44,7 @@ grep -q '"recall":1.000000' "$work/log3" && fail "shrunken boxes without filter 
 printf '# boxes\n100.0 1 2 3\n' > "$work/bad.txt"
 if "$detect" "$work/seq" "$work/out4" --detector file --boxes "$work/bad.txt" 2> "$work/err"; then fail "bad file accepted"; fi
 grep -q "$work/bad.txt:2:" "$work/err" || fail "error does not name file:line: $(cat "$work/err")"
+# Malformed plug-in backend options.
+if "$detect" "$work/seq" "$work/out5" --backend-options "novalue" 2> "$work/err"; then fail "bad backend options accepted"; fi
+grep -q "backend-options" "$work/err" || fail "backend options message: $(cat "$work/err")"
 echo "pf2_detect CLI: all checks passed"
