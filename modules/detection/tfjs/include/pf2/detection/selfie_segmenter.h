@@ -2,8 +2,8 @@
 // "selfie": MediaPipe's selfie segmentation (256x256, MobileNetV3-like) run by OpenCV DNN from
 // its TF.js graph. Gives a person probability per pixel; people are the connected components of
 // the thresholded mask. Limits: one mask for all people, so people who touch or overlap in the
-// image come out as one detection; trained on selfies, so small far people and unusual poses are
-// segmented less well; chairs and bags held close to a person tend to be included.
+// image come out as one detection; objects next to a person (the chair on the walking_xyz test
+// frame) tend to be included, and some objects alone are read as people (see min_score).
 #include <memory>
 #include <string>
 #include <vector>
