@@ -2,6 +2,7 @@
 // Small helpers shared by the detection tests.
 #include <sys/stat.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
