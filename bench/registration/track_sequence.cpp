@@ -25,7 +25,8 @@ const char* kUsage =
     "                          [--finest-level L] [--points N] [--no-photometric] [--masks DIR]\n"
     "                          [--mask-mode remove|keep] [--distortion auto|none|fr1|fr2]\n"
     "                          [--depth-sigma M] [--intensity-sigma I] [--kf-rotation RAD]\n"
-    "                          [--kf-translation M] [--no-loops] [--loop-gap K] [--json] [--verbose]\n"
+    "                          [--kf-translation M] [--convergence STEP] [--iterations-coarse N]\n"
+    "                          [--iterations-fine N] [--no-loops] [--loop-gap K] [--json] [--verbose]\n"
     "  FOLDER   TUM layout (rgb.txt, depth.txt, rgb/, depth/, groundtruth.txt)\n"
     "  --out    write the estimated trajectory after loop closing (tracked frames only; lost\n"
     "           frames are left out)\n"
@@ -37,7 +38,8 @@ const char* kUsage =
     "              keep: read the masks but do not use them (people stay in the frames)\n"
     "  --distortion lens model to undistort with; auto = TUM fr1/fr2 values when the intrinsics\n"
     "           are the fr1/fr2 preset, else none\n"
-    "  --depth-sigma, --intensity-sigma, --kf-rotation, --kf-translation: override the defaults\n"
+    "  --depth-sigma, --intensity-sigma, --kf-rotation, --kf-translation, --convergence,\n"
+    "  --iterations-coarse, --iterations-fine: override the defaults (RgbdOdometry::Options)\n"
     "  --no-loops  no loop closing (pose graph of odometry edges only)\n"
     "  --loop-gap  keyframes between the two ends of a loop (default 10)\n"
     "  --json   last line of output: one JSON object with the figures\n"
@@ -67,6 +69,9 @@ int run(int argc, char** argv) {
   options.odometry.intensity_sigma = cli.number("--intensity-sigma", options.odometry.intensity_sigma);
   options.keyframes.max_rotation = cli.number("--kf-rotation", options.keyframes.max_rotation);
   options.keyframes.max_translation = cli.number("--kf-translation", options.keyframes.max_translation);
+  options.odometry.convergence_step = cli.number("--convergence", options.odometry.convergence_step);
+  options.odometry.iterations_coarse = cli.integer("--iterations-coarse", options.odometry.iterations_coarse);
+  options.odometry.iterations_fine = cli.integer("--iterations-fine", options.odometry.iterations_fine);
   if (cli.flag("--no-loops")) options.backend.max_candidates = 0;
   options.backend.min_loop_gap = cli.integer("--loop-gap", options.backend.min_loop_gap);
   options.backend.loop_translation_sigma = cli.number("--loop-sigma-t", options.backend.loop_translation_sigma);
