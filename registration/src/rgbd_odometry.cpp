@@ -320,7 +320,8 @@ void RgbdOdometry::makeReference(OdometryFrame* frame) const {
     cv::Sobel(level.intensity, level.gradient_x, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(level.intensity, level.gradient_y, CV_32F, 0, 1, 3, 1.0 / 8.0);
     // Full-resolution depth is noisy pixel to pixel: take normals over two pixels there.
-    level.normals = computeNormals(level.depth, level.intrinsics, l == 0 ? 2 : 1, 0.05);
+    level.normals = computeNormals(level.depth, level.intrinsics, l == 0 ? 2 : 1,
+                                   options_.max_normal_depth_jump);
   }
   features_.extract(frame);
   frame->is_reference = true;

@@ -70,8 +70,9 @@ class RgbdOdometry {
     double depth_sigma = 0.01;       // point-to-plane noise at 1 m depth, metres (grows with z^2)
     double photometric_weight = 1.0; // relative weight of the photometric term (0 = ICP only)
     double huber_k = 1.345;          // Huber threshold on normalised residuals
-    double max_depth_difference = 0.07;  // metres; larger |z_ref - z| is occlusion, not a match
-    double max_normal_gradient = 0.3;    // metres per pixel of depth change kept in normal estimation
+    double max_depth_difference = 0.07;  // relative: |z_ref - z| > this * z is occlusion, no match
+    double max_normal_depth_jump = 0.05;  // relative depth change per pixel step across which no
+                                          // normal is taken (a depth edge, not a surface)
     double convergence_step = 2e-5;  // stop a level when the update is below this (m and rad)
     // Verdict thresholds:
     double inlier_distance = 0.03;   // metres, point-to-plane residual counted as inlier
