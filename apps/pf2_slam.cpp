@@ -11,6 +11,7 @@
 #include "pf2/eval/trajectory_metrics.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/io/tum_sequence.h"
+#include "pf2/registration/rgbd_odometry.h"
 #include "pf2/slam/slam_system.h"
 #include "pf2/synth/synthetic_sequence.h"
 
@@ -37,11 +38,29 @@ const char* kUsage =
     "  --calibration FILE   camera calibration file (default: camera.txt in the folder or TUM preset)\n"
     "  --associations FILE  rgb/depth associations instead of matching rgb.txt and depth.txt\n"
     "  --depth-scale S      depth PNG units per metre (default 5000)\n"
+    "  --distortion D       auto (TUM fr1/fr2 lens distortion for those presets), none, fr1, fr2\n"
     "  --quiet              no progress line\n"
     "Built-in sequence:\n"
     "  --synth-frames N     frames (default 300)   --synth-people K  people 0..5 (default 3)\n"
     "  --synth-camera M     static|xyz|halfsphere|rpy|loop (default xyz)   --seed S (default 1)\n"
     "  -h, --help           this text\n";
+
+bool samePinhole(const pf2::CameraIntrinsics& a, const pf2::CameraIntrinsics& b) {
+  return a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy;
+}
+
+// The TUM benchmark publishes lens distortion for its fr1 and fr2 Kinects and does not rectify the
+// images; "auto" applies it when the sequence uses one of those presets.
+std::vector<double> lensDistortion(const std::string& name, const pf2::CameraIntrinsics& K) {
+  if (name == "fr1" || (name == "auto" && samePinhole(K, pf2::CameraIntrinsics::tumFreiburg1()))) {
+    return pf2::kTumFreiburg1Distortion;
+  }
+  if (name == "fr2" || (name == "auto" && samePinhole(K, pf2::CameraIntrinsics::tumFreiburg2()))) {
+    return pf2::kTumFreiburg2Distortion;
+  }
+  if (name == "auto" || name == "none") return {};
+  throw pf2::Error("option --distortion: expected auto, none, fr1 or fr2, got '" + name + "'");
+}
 
 bool exists(const std::string& path) {
   struct stat info;
@@ -65,6 +84,7 @@ int run(int argc, char** argv) {
   if (cli.flag("--pcd")) options.map_files.points_pcd = true;
   if (cli.flag("--quiet")) options.progress = false;
   std::optional<std::string> eval_path = cli.value("--eval");
+  const std::string distortion = cli.value("--distortion", "auto");
   pf2::TumSequence::Options tum;
   tum.calibration_file = cli.value("--calibration", "");
   tum.associations_file = cli.value("--associations", "");
@@ -94,6 +114,7 @@ int run(int argc, char** argv) {
     sequence_dir = positionals[0];
   }
   const pf2::TumSequence sequence(sequence_dir, tum);
+  options.tracker.odometry.distortion = lensDistortion(distortion, sequence.intrinsics());
   pf2::SlamSystem system(options);
   const pf2::SlamRunSummary s = system.run(sequence, sequence_dir, out_dir);
 
