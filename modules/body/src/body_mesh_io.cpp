@@ -8,6 +8,7 @@
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
+#include "pf2/core/text_lines.h"
 
 namespace pf2 {
 namespace {
@@ -56,17 +57,12 @@ void writeBodyMesh(const std::string& path, const BodyMesh& mesh) {
 namespace pf2 {
 
 void readBodyPoseFile(const std::string& path, BodyParameters* parameters) {
-  std::ifstream in(path);
-  if (!in) throw fileError(path, "cannot open");
-  std::string line;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
+  forEachDataLine(path, "pose file", [&](std::string line, int line_number) {
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     std::istringstream s(line);
     std::string name;
-    if (!(s >> name)) continue;
+    if (!(s >> name)) return;
     int joint = -1;
     for (int j = 0; j < kBodyJointCount; ++j) {
       if (name == kBodyJointNames[j]) joint = j;
@@ -78,7 +74,7 @@ void readBodyPoseFile(const std::string& path, BodyParameters* parameters) {
       throw fileError(path, line_number, "expected 'NAME ax ay az' (three finite numbers)");
     }
     parameters->pose[joint] = r;
-  }
+  });
 }
 
 }  // namespace pf2

@@ -6,6 +6,7 @@
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
+#include "pf2/core/text_lines.h"
 
 namespace pf2 {
 
@@ -34,19 +35,13 @@ CameraIntrinsics CameraIntrinsics::preset(const std::string& name) {
 }
 
 CameraIntrinsics CameraIntrinsics::load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw fileError(path, "cannot open calibration file");
   std::map<std::string, double> values;
-  std::string line;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  forEachDataLine(path, "calibration file", [&](std::string line, int line_number) {
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     std::istringstream fields(line);
     std::string key;
-    if (!(fields >> key)) continue;  // blank or comment line
+    if (!(fields >> key)) return;  // only a trailing comment
     double value = 0.0;
     std::string extra;
     if (!(fields >> value) || (fields >> extra)) {
@@ -57,7 +52,7 @@ CameraIntrinsics CameraIntrinsics::load(const std::string& path) {
       throw fileError(path, line_number, "unknown key '" + key + "'");
     }
     values[key] = value;
-  }
+  });
   for (const char* key : {"fx", "fy", "cx", "cy", "width", "height"}) {
     if (!values.count(key)) throw fileError(path, std::string("missing key '") + key + "'");
   }

@@ -6,24 +6,19 @@
 #include <sstream>
 
 #include "pf2/core/error.h"
+#include "pf2/core/text_lines.h"
 
 namespace pf2 {
 
 ConfigFile ConfigFile::load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw fileError(path, "cannot open config file");
   ConfigFile config;
   config.path_ = path;
-  std::string line;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  forEachDataLine(path, "config file", [&](std::string line, int line_number) {
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     std::istringstream fields(line);
     std::string key, value, extra;
-    if (!(fields >> key)) continue;
+    if (!(fields >> key)) return;  // only a trailing comment
     if (!(fields >> value) || (fields >> extra)) {
       throw fileError(path, line_number, "expected 'section.key value', got '" + line + "'");
     }
@@ -32,7 +27,7 @@ ConfigFile ConfigFile::load(const std::string& path) {
                                              std::to_string(config.values_[key].line) + ")");
     }
     config.values_[key] = {value, line_number};
-  }
+  });
   return config;
 }
 

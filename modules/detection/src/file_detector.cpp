@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "nearest_stamp.h"
-#include "text_lines.h"
+#include "pf2/core/text_lines.h"
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
 

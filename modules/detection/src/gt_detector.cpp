@@ -7,7 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "nearest_stamp.h"
-#include "text_lines.h"
+#include "pf2/core/text_lines.h"
 #include "pf2/core/error.h"
 
 namespace pf2 {

@@ -2,31 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "pf2/core/error.h"
+#include "pf2/core/text_lines.h"
 
 namespace pf2 {
 
 namespace {
-
-// Calls handle(fields, line_number) for every non-comment, non-blank line; CRLF tolerated.
-template <typename Handler>
-void forEachDataLine(const std::string& path, Handler handle) {
-  std::ifstream in(path);
-  if (!in) throw fileError(path, "cannot open file");
-  std::string line;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    handle(fields, line, line_number);
-  }
-}
 
 bool readEntry(std::istringstream& fields, int line_number, TumListEntry* entry) {
   entry->line = line_number;
@@ -38,7 +21,8 @@ bool readEntry(std::istringstream& fields, int line_number, TumListEntry* entry)
 
 std::vector<TumListEntry> readTumList(const std::string& path) {
   std::vector<TumListEntry> entries;
-  forEachDataLine(path, [&](std::istringstream& fields, const std::string& line, int number) {
+  forEachDataLine(path, "file list", [&](const std::string& line, int number) {
+    std::istringstream fields(line);
     TumListEntry entry;
     if (!readEntry(fields, number, &entry)) {
       throw fileError(path, number, "expected 'timestamp filename', got '" + line + "'");
@@ -50,7 +34,8 @@ std::vector<TumListEntry> readTumList(const std::string& path) {
 
 std::vector<TumAssociation> readTumAssociations(const std::string& path) {
   std::vector<TumAssociation> pairs;
-  forEachDataLine(path, [&](std::istringstream& fields, const std::string& line, int number) {
+  forEachDataLine(path, "associations file", [&](const std::string& line, int number) {
+    std::istringstream fields(line);
     TumAssociation pair;
     if (!readEntry(fields, number, &pair.rgb) || !readEntry(fields, number, &pair.depth)) {
       throw fileError(path, number,

@@ -1,6 +1,8 @@
 #pragma once
-// Internal: calls handle(line, number) for each data line of a text file: CRLF tolerated, blank
-// lines and '#' comments skipped. Throws pf2::Error naming the file when it cannot be opened.
+// Calls handle(line, number) for each data line of a text file: CRLF tolerated, blank lines and
+// lines starting with '#' skipped (a '#' later in a line is left to the handler). Throws pf2::Error
+// "path: cannot open <what>" when the file cannot be opened. Every reader of our text formats
+// (TUM lists and trajectories, calibration, config, boxes) goes through it.
 #include <fstream>
 #include <string>
 
