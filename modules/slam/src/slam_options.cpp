@@ -9,6 +9,12 @@ DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   return options;
 }
 
+DetectorOptions SlamOptions::defaultDetectionOptions() {
+  DetectorOptions options;
+  options.gt.provide_mask = true;
+  return options;
+}
+
 void applyConfig(const ConfigFile& config, SlamOptions* options) {
   SlamOptions& o = *options;
   o.detector = config.text("detector.name", o.detector);

@@ -16,7 +16,9 @@ struct SlamOptions {
   // baseline that shows what removal buys) or "auto" (gt when the sequence has a gt/ folder,
   // else "learned" when its models are installed, else "hog").
   std::string detector = "auto";
-  DetectorOptions detection;
+  // The gt backend hands over its person masks, as a segmenting detector (selfie, learned) does,
+  // so the filter's mask addition runs; detector.gt_masks false gives the paper's boxes-only input.
+  DetectorOptions detection = defaultDetectionOptions();
   DualBBoxFilter::Options filter = defaultFilterOptions();
   Tracker::Options tracker;
   Mapper::Options mapper;
@@ -30,6 +32,7 @@ struct SlamOptions {
   // temporal guard (measured in docs/BENCHMARKS.md); the geometric hook stays off until the
   // map renders predictions.
   static DualBBoxFilter::Options defaultFilterOptions();
+  static DetectorOptions defaultDetectionOptions();
 };
 
 // Reads the keys documented in docs/slam.md from `config` into `options` (absent keys keep

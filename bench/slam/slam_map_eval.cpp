@@ -1,0 +1,67 @@
+// Map accuracy of a pf2_slam run on a pf2_synth sequence: the map (estimated poses, world = the
+// first tracked camera) is moved into the ground truth's frame with the trajectory's ATE
+// alignment, then scored against gt/static_scene.ply: accuracy of the map vertices, ghosts
+// (vertices > 3 cm from any static surface: people fused into the map) and completeness of the
+// static surface the camera saw (samples observed by every 10th ground-truth depth frame).
+//
+//   pf2_slam_map_eval SEQUENCE_DIR RUN_DIR [--every K] [--max-depth M]
+#include <cstdio>
+#include <iostream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "pf2/core/command_line.h"
+#include "pf2/core/error.h"
+#include "pf2/eval/trajectory_metrics.h"
+#include "pf2/io/trajectory_io.h"
+#include "pf2/io/tum_sequence.h"
+#include "pf2/surface/map_evaluator.h"
+#include "pf2/surface/triangle_mesh.h"
+
+namespace {
+
+int run(int argc, char** argv) {
+  pf2::CommandLine cli(argc, argv);
+  if (cli.helpRequested()) {
+    std::cout << "usage: pf2_slam_map_eval SEQUENCE_DIR RUN_DIR [--every K] [--max-depth M]\n"
+                 "Scores RUN_DIR/map.ply (aligned by RUN_DIR/trajectory.txt) against\n"
+                 "SEQUENCE_DIR/gt/static_scene.ply.\n";
+    return 0;
+  }
+  const int every = cli.integer("--every", 10);
+  // The map fuses depth up to the TSDF's max_depth (3.5 m by default): surface seen only from
+  // farther away cannot be in it and is not counted as missed.
+  const double max_depth = cli.number("--max-depth", 3.5);
+  const auto args = cli.positionals();
+  if (args.size() != 2) throw pf2::Error("expected SEQUENCE_DIR and RUN_DIR (see -h)");
+  const std::string& sequence_dir = args[0];
+  const std::string& run_dir = args[1];
+
+  const pf2::TumSequence sequence(sequence_dir);
+  const pf2::Trajectory ground_truth = sequence.groundTruth();
+  const pf2::AteResult ate = pf2::computeAte(ground_truth, pf2::readTrajectory(run_dir + "/trajectory.txt"));
+  pf2::TriangleMesh map = pf2::loadMeshPly(run_dir + "/map.ply");
+  for (auto& v : map.vertices) {
+    v = (ate.rotation * v.cast<double>() + ate.translation_offset).cast<float>();
+  }
+  const pf2::TriangleMesh truth = pf2::loadMeshPly(sequence_dir + "/gt/static_scene.ply");
+  pf2::MapEvaluator evaluator(truth, pf2::MapEvaluator::Options());
+  for (size_t i = 0; i < sequence.size(); i += std::max(1, every)) {
+    Eigen::Isometry3d T_w_c;
+    if (!pf2::interpolateAt(ground_truth, sequence.timestamp(i), 0.02, &T_w_c)) continue;
+    pf2::Frame frame = sequence.frame(i);
+    frame.depth.setTo(0.0f, frame.depth > max_depth);
+    evaluator.markSeen(frame.depth, frame.intrinsics, T_w_c);
+  }
+  const pf2::MapQuality q = evaluator.evaluate(map);
+  std::printf("trajectory ATE %.4f m; map vertices %zu\n", ate.translation.rmse, q.map_vertices);
+  std::printf("accuracy mean %.4f m, median %.4f m, p90 %.4f m\n", q.mean, q.median, q.p90);
+  std::printf("ghost vertices (> 3 cm) %zu (%.2f %%)\n", q.ghost_vertices,
+              100.0 * q.ghost_vertices / std::max<size_t>(1, q.map_vertices));
+  std::printf("completeness (2 cm) %.1f %% of %zu seen samples\n", 100.0 * q.completeness, q.seen_samples);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return pf2::runApp("pf2_slam_map_eval", run, argc, argv); }
