@@ -18,35 +18,49 @@ cv::Rect claimRect(const PersonDetection& pose, float box_margin, cv::Size image
   return cv::Rect(ul, lr) & cv::Rect(cv::Point(0, 0), image);
 }
 
+int confidentKeypoints(const PersonDetection& pose, float min_score) {
+  return static_cast<int>(std::count_if(pose.keypoints.begin(), pose.keypoints.end(),
+                                        [min_score](const Keypoint2d& k) { return k.score >= min_score; }));
+}
+
 }  // namespace
 
 std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
-                                                 const std::vector<PersonDetection>& poses,
+                                                 const std::vector<PersonDetection>& all_poses,
                                                  const cv::Mat& probability,
                                                  const LearnedPersonDetector::Options& options) {
-  std::vector<PersonDetection> people;
+  // Only confident poses are people; the selfie mask alone is no evidence of one.
+  std::vector<PersonDetection> poses;
+  for (const PersonDetection& pose : all_poses)
+    if (confidentKeypoints(pose, options.keypoint_min_score) >= options.min_pose_keypoints) poses.push_back(pose);
   std::vector<cv::Rect> claims;
   for (const PersonDetection& pose : poses) claims.push_back(claimRect(pose, options.box_margin, probability.size()));
   std::vector<cv::Mat> pose_masks(poses.size());
   for (cv::Mat& m : pose_masks) m = cv::Mat(probability.size(), CV_8U, cv::Scalar(0));
+  const double max_area = options.max_component_fraction * static_cast<double>(probability.total());
+  std::vector<PersonDetection> people;
 
   for (const PersonDetection& component : components) {
     std::vector<size_t> owners;
     for (size_t i = 0; i < poses.size(); ++i)
       if (!claims[i].empty() && cv::countNonZero(component.mask(claims[i])) > 0) owners.push_back(i);
-    if (owners.empty()) {
-      people.push_back(component);
-      continue;
+    if (owners.empty()) continue;  // no person supports it
+    cv::Mat mask = component.mask;
+    if (cv::countNonZero(mask) > max_area) {  // implausibly large: keep only what the people claim
+      cv::Mat claimed(mask.size(), CV_8U, cv::Scalar(0));
+      for (size_t i : owners) claimed(claims[i]).setTo(255);
+      mask = cv::Mat();  // a new buffer: the caller's component stays as it was
+      cv::bitwise_and(component.mask, claimed, mask);
     }
     if (owners.size() == 1) {
-      pose_masks[owners[0]] |= component.mask;
+      pose_masks[owners[0]] |= mask;
       continue;
     }
     // Shared component: each pixel to the owner with the nearest confident keypoint among those
     // whose claim contains it (any owner if none does).
     const int u0 = static_cast<int>(component.box.x_ul), u1 = static_cast<int>(component.box.x_lr);
     for (int v = static_cast<int>(component.box.y_ul); v < static_cast<int>(component.box.y_lr); ++v) {
-      const uint8_t* in = component.mask.ptr<uint8_t>(v);
+      const uint8_t* in = mask.ptr<uint8_t>(v);
       for (int u = u0; u < u1; ++u) {
         if (!in[u]) continue;
         size_t best = owners[0];
@@ -88,6 +102,7 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
 
 LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(options) {
   if (options_.pose_every < 1) throw Error("learned detector: pose_every must be at least 1");
+  if (options_.min_pose_keypoints < 1) throw Error("learned detector: min_pose_keypoints must be at least 1");
   selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
   movenet_ = std::make_unique<MoveNetDetector>(options_.movenet);
 }

@@ -16,7 +16,8 @@ class ExtraReader {
   explicit ExtraReader(const DetectorExtraOptions& extra) : extra_(extra) {
     static const std::set<std::string> kKnown = {
         "selfie.model",    "selfie.threshold", "selfie.min_area",   "selfie.square_crops", "selfie.min_score", "movenet.model",
-        "movenet.width",   "movenet.height",   "movenet.min_score", "learned.pose_every"};
+        "movenet.width",   "movenet.height",   "movenet.min_score", "learned.pose_every",
+        "learned.min_keypoints", "learned.max_component"};
     for (const auto& entry : extra_) {
       const std::string family = entry.first.substr(0, entry.first.find('.') + 1);
       if ((family == "selfie." || family == "movenet." || family == "learned.") && !kKnown.count(entry.first))
@@ -90,6 +91,8 @@ std::unique_ptr<HumanDetector> createLearnedDetector(const DetectorExtraOptions&
   o.selfie = selfieOptions(r);
   o.movenet = moveNetOptions(r);
   r.number("learned.pose_every", &o.pose_every);
+  r.number("learned.min_keypoints", &o.min_pose_keypoints);
+  r.number("learned.max_component", &o.max_component_fraction);
   return std::make_unique<LearnedPersonDetector>(o);
 }
 

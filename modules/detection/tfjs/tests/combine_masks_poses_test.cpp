@@ -55,22 +55,50 @@ TEST(CombineMasksAndPoses, SplitsASharedComponentByNearestKeypoint) {
   EXPECT_NEAR(people[0].score, 0.8f, 1e-6f);
 }
 
-TEST(CombineMasksAndPoses, KeepsUnexplainedMasksAndMasklessPoses) {
+// The selfie model marks blurred or plain scenes as "person", so a mask no confident pose
+// supports is dropped; a confident pose over no mask stays a box; a weak pose is no person.
+TEST(CombineMasksAndPoses, DropsUnsupportedMasksAndWeakPosesKeepsMasklessPoses) {
   cv::Mat mask(kH, kW, CV_8U, cv::Scalar(0));
   cv::rectangle(mask, cv::Rect(20, 10, 30, 80), cv::Scalar(255), cv::FILLED);
   const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.7));
+  PersonDetection weak = pose(15, 55, 35);  // over the mask, but only 4 confident keypoints
+  for (size_t k = 4; k < weak.keypoints.size(); ++k) weak.keypoints[k].score = 0.2f;
   const std::vector<PersonDetection> people = combineMasksAndPoses(
-      {component(mask)}, {pose(140, 180, 160)}, probability, LearnedPersonDetector::Options());
-  ASSERT_EQ(people.size(), 2u);
-  // The component no pose touches stays as it was, without keypoints.
-  EXPECT_TRUE(people[0].keypoints.empty());
-  EXPECT_EQ(cv::countNonZero(people[0].mask != mask), 0);
-  EXPECT_FLOAT_EQ(people[0].score, 0.9f);
-  // The pose over no mask stays a box with keypoints and its own score, without a mask.
-  EXPECT_TRUE(people[1].mask.empty());
-  EXPECT_EQ(people[1].keypoints.size(), 17u);
-  EXPECT_FLOAT_EQ(people[1].box.x_ul, 140.f);
-  EXPECT_FLOAT_EQ(people[1].score, 0.4f);
+      {component(mask)}, {weak, pose(140, 180, 160)}, probability, LearnedPersonDetector::Options());
+  ASSERT_EQ(people.size(), 1u);
+  EXPECT_TRUE(people[0].mask.empty());
+  EXPECT_EQ(people[0].keypoints.size(), 17u);
+  EXPECT_FLOAT_EQ(people[0].box.x_ul, 140.f);
+  EXPECT_FLOAT_EQ(people[0].score, 0.4f);
+
+  // With the weak pose's fifth keypoint confident it supports the mask and takes all of it.
+  weak.keypoints[4].score = 0.3f;
+  const std::vector<PersonDetection> supported =
+      combineMasksAndPoses({component(mask)}, {weak}, probability, LearnedPersonDetector::Options());
+  ASSERT_EQ(supported.size(), 1u);
+  EXPECT_EQ(cv::countNonZero(supported[0].mask != mask), 0);
+  EXPECT_NEAR(supported[0].score, 0.7f, 1e-6f);
+}
+
+// A component covering most of the image (blur, a plain wall) is cut to the box of the person
+// touching it, so a real person next to it does not take the whole image.
+TEST(CombineMasksAndPoses, CutsAnImplausiblyLargeComponentToThePersonsBox) {
+  cv::Mat mask(kH, kW, CV_8U, cv::Scalar(0));
+  cv::rectangle(mask, cv::Rect(0, 0, 180, kH), cv::Scalar(255), cv::FILLED);  // 90 % of the image
+  const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.9));
+  LearnedPersonDetector::Options options;
+  options.box_margin = 0.f;
+  std::vector<PersonDetection> people =
+      combineMasksAndPoses({component(mask)}, {pose(20, 70, 45)}, probability, options);
+  ASSERT_EQ(people.size(), 1u);
+  EXPECT_EQ(cv::countNonZero(people[0].mask), 50 * 80);  // the box x 20..70, y 10..90
+  EXPECT_EQ(cv::countNonZero(people[0].mask(cv::Rect(20, 10, 50, 80))), 50 * 80);
+  EXPECT_EQ(cv::countNonZero(mask), 180 * kH);  // the input component is left alone
+
+  options.max_component_fraction = 1.0;  // no limit: the person takes the whole component
+  people = combineMasksAndPoses({component(mask)}, {pose(20, 70, 45)}, probability, options);
+  ASSERT_EQ(people.size(), 1u);
+  EXPECT_EQ(cv::countNonZero(people[0].mask), 180 * kH);
 }
 
 }  // namespace

@@ -1,12 +1,15 @@
 #pragma once
 // "learned": selfie masks on every frame, MoveNet MultiPose boxes and keypoints every few frames,
 // carried in between by the motion of the mask (the shift aligning the previous mask in a person's
-// box with the current one). Each mask component is given to the people whose
-// (enlarged) MoveNet box it touches; a component touched by several people is split pixel by
-// pixel to the person with the nearest confident keypoint, which separates touching people better
-// than the mask alone. Components no pose explains stay as people without keypoints; poses with
-// no mask under them stay as boxes without a mask. A person's score is the mean mask probability
-// when it has a mask, MoveNet's score otherwise.
+// box with the current one). Only poses with enough confident keypoints count as people: the selfie
+// model assumes someone is in view and marks blurred or plain scenes as "person" (on TUM fr1/rpy,
+// often the whole image), so a mask alone is no evidence of a person. Each mask component is given
+// to the people whose (enlarged) box it touches; a component touched by several people is split
+// pixel by pixel to the person with the nearest confident keypoint, which separates touching people
+// better than the mask alone. Components no person touches are dropped; a component larger than
+// max_component_fraction of the image is cut to the boxes of the people touching it. People with no
+// mask under them stay as boxes without a mask. A person's score is the mean mask probability when
+// it has a mask, MoveNet's score otherwise.
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,11 +29,19 @@ class LearnedPersonDetector : public HumanDetector {
     MoveNetDetector::Options movenet;
     int pose_every = 3;                 // frames per MoveNet run (1 = every frame)
     float box_margin = 0.1f;            // fraction of a pose box's size added on each side when claiming mask
-    float keypoint_min_score = 0.3f;    // keypoints used to split a shared mask component
+    float keypoint_min_score = 0.3f;    // a keypoint at least this score is "confident"
+    // Confident keypoints a MoveNet pose needs to count as a person (and to claim mask). The people
+    // of the real walking_xyz test frame have >= 8; MoveNet's best spurious pose on 120 frames of
+    // TUM fr1/rpy (no people) has 3.
+    int min_pose_keypoints = 5;
+    // A mask component larger than this fraction of the image is cut to the claimed boxes of the
+    // people touching it (blur and plain walls make whole-image components).
+    double max_component_fraction = 0.6;
     float max_motion = 32.f;            // largest image motion of a person between frames, pixels
   };
 
-  // Loads both models. Throws pf2::Error naming a missing/unreadable model, or if pose_every < 1.
+  // Loads both models. Throws pf2::Error naming a missing/unreadable model, or if pose_every or
+  // min_pose_keypoints < 1.
   explicit LearnedPersonDetector(const Options& options);
   ~LearnedPersonDetector() override;
 
@@ -50,8 +61,10 @@ class LearnedPersonDetector : public HumanDetector {
 };
 
 // The merge step of LearnedPersonDetector, separate so it can be tested without models: gives the
-// selfie mask components (SelfieSegmenter::components) to the MoveNet poses as described above;
-// probability is the selfie probability image the components come from. Thread safe.
+// selfie mask components (SelfieSegmenter::components) to the MoveNet poses with at least
+// min_pose_keypoints confident keypoints, as described above (other poses and the components they
+// leave are dropped); probability is the selfie probability image the components come from.
+// Thread safe.
 std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
                                                  const std::vector<PersonDetection>& poses,
                                                  const cv::Mat& probability,
