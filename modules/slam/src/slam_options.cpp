@@ -15,6 +15,13 @@ DetectorOptions SlamOptions::defaultDetectionOptions() {
   return options;
 }
 
+Mapper::Options SlamOptions::defaultMapperOptions() {
+  Mapper::Options options;
+  options.max_stored_keyframes = 300;
+  options.keep_radius = 10.0;
+  return options;
+}
+
 void applyConfig(const ConfigFile& config, SlamOptions* options) {
   SlamOptions& o = *options;
   o.detector = config.text("detector.name", o.detector);

@@ -21,7 +21,10 @@ struct SlamOptions {
   DetectorOptions detection = defaultDetectionOptions();
   DualBBoxFilter::Options filter = defaultFilterOptions();
   Tracker::Options tracker;
-  Mapper::Options mapper;
+  // Bounded memory on long runs: the newest 300 keyframes stay re-integrable (about 100 MB of
+  // stored images), TSDF blocks farther than 10 m from the camera are dropped (a room is never
+  // cut; a long corridor is).
+  Mapper::Options mapper = defaultMapperOptions();
   bool build_map = true;             // fuse keyframes into the TSDF and OctoMap
   Mapper::ExportOptions map_files;   // which map files are written at the end
   int max_frames = 0;                // frames processed from the start (0 = all)
@@ -33,6 +36,7 @@ struct SlamOptions {
   // map renders predictions.
   static DualBBoxFilter::Options defaultFilterOptions();
   static DetectorOptions defaultDetectionOptions();
+  static Mapper::Options defaultMapperOptions();
 };
 
 // Reads the keys documented in docs/slam.md from `config` into `options` (absent keys keep
