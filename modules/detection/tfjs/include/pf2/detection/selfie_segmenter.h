@@ -3,7 +3,10 @@
 // its TF.js graph. Gives a person probability per pixel; people are the connected components of
 // the thresholded mask. Limits: one mask for all people, so people who touch or overlap in the
 // image come out as one detection; objects next to a person (the chair on the walking_xyz test
-// frame) tend to be included, and some objects alone are read as people (see min_score).
+// frame) tend to be included, and some objects alone are read as people (see min_score). It cannot
+// tell "no person": made for selfies, it marks blurred or plain scenes as a person (on 69 of 120
+// frames of TUM fr1/rpy, which has no people, often the whole image). Use "learned", which keeps a
+// mask only under a MoveNet pose, where people may be absent.
 #include <memory>
 #include <string>
 #include <vector>
