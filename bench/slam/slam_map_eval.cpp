@@ -1,6 +1,7 @@
 // Map accuracy of a pf2_slam run on a pf2_synth sequence: the map (estimated poses, world = the
-// first tracked camera) is moved into the ground truth's frame with the trajectory's ATE
-// alignment, then scored against gt/static_scene.ply: accuracy of the map vertices, ghosts
+// first tracked camera) is moved into the ground truth's frame by the first tracked frame's
+// ground-truth pose (a trajectory alignment would be undefined for a still or purely rotating
+// camera, and this way drift counts against the map), then scored against gt/static_scene.ply: accuracy of the map vertices, ghosts
 // (vertices > 3 cm from any static surface: people fused into the map) and completeness of the
 // static surface the camera saw (samples observed by every 10th ground-truth depth frame).
 //
@@ -39,11 +40,16 @@ int run(int argc, char** argv) {
 
   const pf2::TumSequence sequence(sequence_dir);
   const pf2::Trajectory ground_truth = sequence.groundTruth();
-  const pf2::AteResult ate = pf2::computeAte(ground_truth, pf2::readTrajectory(run_dir + "/trajectory.txt"));
-  pf2::TriangleMesh map = pf2::loadMeshPly(run_dir + "/map.ply");
-  for (auto& v : map.vertices) {
-    v = (ate.rotation * v.cast<double>() + ate.translation_offset).cast<float>();
+  const pf2::Trajectory estimate = pf2::readTrajectory(run_dir + "/trajectory.txt");
+  if (estimate.empty()) throw pf2::fileError(run_dir + "/trajectory.txt", "no poses");
+  Eigen::Isometry3d T_gt_first;
+  if (!pf2::interpolateAt(ground_truth, estimate.front().timestamp, 0.1, &T_gt_first)) {
+    throw pf2::Error("no ground truth at the first tracked frame");
   }
+  const Eigen::Isometry3d T_gt_est = T_gt_first * estimate.front().T_w_c.inverse();
+  const pf2::AteResult ate = pf2::computeAte(ground_truth, estimate);
+  pf2::TriangleMesh map = pf2::loadMeshPly(run_dir + "/map.ply");
+  for (auto& v : map.vertices) v = (T_gt_est * v.cast<double>()).cast<float>();
   const pf2::TriangleMesh truth = pf2::loadMeshPly(sequence_dir + "/gt/static_scene.ply");
   pf2::MapEvaluator evaluator(truth, pf2::MapEvaluator::Options());
   for (size_t i = 0; i < sequence.size(); i += std::max(1, every)) {

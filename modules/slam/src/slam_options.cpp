@@ -51,6 +51,7 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
 
   Mapper::Options& m = o.mapper;
   o.build_map = config.boolean("map.build", o.build_map);
+  o.fuse_every = config.integer("map.fuse_every", o.fuse_every);
   m.tsdf.voxel_size = config.number("map.voxel_size", m.tsdf.voxel_size);
   m.tsdf.truncation = config.number("map.truncation", m.tsdf.truncation);
   m.tsdf.max_depth = config.number("map.max_depth", m.tsdf.max_depth);

@@ -76,13 +76,30 @@ struct LoadedFrame {
   std::exception_ptr error;
 };
 
-struct KeyframeJob {
-  int id;
+// A frame for the map: a keyframe, or a frame fused in between (fuse_every) that hangs off its
+// keyframe like a trajectory pose, so pose-graph corrections move it too.
+struct FusionJob {
+  int id;          // the keyframe id, or kFusedFrameIds + frame index for an in-between frame
+  int keyframe_id;
+  Eigen::Isometry3d T_k_c;
   cv::Mat static_depth;
   cv::Mat rgb;
   CameraIntrinsics K;
   Eigen::Isometry3d T_w_c;
 };
+
+constexpr int kFusedFrameIds = 1 << 24;  // above any keyframe id
+
+// Map poses of everything fused so far, from the keyframes' current poses.
+std::map<int, Eigen::Isometry3d> fusedPoses(const std::map<int, Eigen::Isometry3d>& keyframe_poses,
+                                            const std::map<int, std::pair<int, Eigen::Isometry3d>>& anchors) {
+  std::map<int, Eigen::Isometry3d> poses;
+  for (const auto& [id, anchor] : anchors) {
+    const auto keyframe = keyframe_poses.find(anchor.first);
+    if (keyframe != keyframe_poses.end()) poses[id] = keyframe->second * anchor.second;
+  }
+  return poses;
+}
 
 // What the front end remembers of each frame to write the loop-corrected trajectory at the end.
 struct FrameRecord {
@@ -169,20 +186,23 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   });
 
   // Mapper thread: fuses keyframes and follows the pose graph's corrections.
-  WorkQueue<KeyframeJob> keyframe_jobs(64);
+  WorkQueue<FusionJob> keyframe_jobs(64);
   std::exception_ptr mapper_error;
   std::thread mapping;
+  // Fused id -> (keyframe id, T_k_c); only the mapper thread touches it until it is joined.
+  std::map<int, std::pair<int, Eigen::Isometry3d>> fused_anchors;
   if (options_.build_map) {
     mapping = std::thread([&] {
       uint64_t revision_seen = 0;
       try {
         while (auto job = keyframe_jobs.pop()) {
           ScopedStageTimer timer(&stats_, "map");
+          fused_anchors[job->id] = {job->keyframe_id, job->T_k_c};
           mapper.addKeyframe(job->id, job->static_depth, job->rgb, job->K, job->T_w_c);
           const uint64_t revision = tracker.keyframes().revision();
           if (revision != revision_seen) {
             revision_seen = revision;
-            mapper.updateKeyframePoses(tracker.keyframes().poses());
+            mapper.updateKeyframePoses(fusedPoses(tracker.keyframes().poses(), fused_anchors));
           }
         }
       } catch (...) {
@@ -243,9 +263,13 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         ++summary.lost;
       }
       if (result.status == TrackStatus::kRelocalised) ++summary.relocalised;
-      if (result.keyframe_created && options_.build_map) {
-        keyframe_jobs.push({result.keyframe_id, static_frame.depth, frame.rgb, frame.intrinsics,
-                            result.T_w_c});
+      if (options_.build_map && record.has_pose) {
+        const bool in_between = options_.fuse_every > 0 && summary.frames % options_.fuse_every == 0;
+        if (result.keyframe_created || in_between) {
+          const int id = result.keyframe_created ? result.keyframe_id : kFusedFrameIds + summary.frames;
+          keyframe_jobs.push({id, result.keyframe_id, result.T_k_c, static_frame.depth, frame.rgb,
+                              frame.intrinsics, result.T_w_c});
+        }
       }
       records.push_back(record);
       ++summary.frames;
@@ -279,7 +303,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   writeTrajectory(out_dir + "/trajectory.txt", trajectory_);
   if (options_.build_map) {
     ScopedStageTimer timer(&stats_, "map_export");
-    mapper.updateKeyframePoses(keyframe_poses);
+    mapper.updateKeyframePoses(fusedPoses(keyframe_poses, fused_anchors));
     mapper.exportMap(out_dir, options_.map_files);
   }
   const std::string json = summaryJson(summary, stats_, tracker.stats());

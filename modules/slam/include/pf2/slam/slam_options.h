@@ -26,6 +26,8 @@ struct SlamOptions {
   // cut; a long corridor is).
   Mapper::Options mapper = defaultMapperOptions();
   bool build_map = true;             // fuse keyframes into the TSDF and OctoMap
+  int fuse_every = 10;               // also fuse every n-th tracked frame between keyframes (0 = keyframes only):
+                                     // surface seen only briefly (behind people who walk by) gets into the map
   Mapper::ExportOptions map_files;   // which map files are written at the end
   int max_frames = 0;                // frames processed from the start (0 = all)
   int prefetch_frames = 4;           // frames decoded ahead in a loader thread
