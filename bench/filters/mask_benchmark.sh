@@ -54,3 +54,12 @@ for spec in "${sequences[@]}"; do
   row "hog, + geometric" "$s" --detector file --boxes "$work/hog_$s.txt" --geometric
   row "hog, temporal + geometric" "$s" --detector file --boxes "$work/hog_$s.txt" --temporal --geometric
 done
+if [ "${PF2_SKIP_LEARNED:-0}" != 1 ]; then
+  for spec in "${sequences[@]}"; do
+    set -- $spec; s="$1"
+    # The learned backend (selfie masks + MoveNet poses) needs scripts/fetch_models.sh.
+    row "learned, paper" "$s" --detector learned
+    row "learned, + mask" "$s" --detector learned --use-mask
+    row "learned, + mask + temporal + geometric" "$s" --detector learned --use-mask --temporal --geometric
+  done
+fi
