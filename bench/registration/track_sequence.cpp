@@ -3,6 +3,7 @@
 // keyframes and loop closures. The measurement tool behind docs/BENCHMARKS.md (registration).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
+#include "pf2/core/pose.h"
 #include "pf2/core/stage_timer.h"
 #include "pf2/eval/trajectory_metrics.h"
 #include "pf2/io/trajectory_io.h"
@@ -145,6 +147,19 @@ int run(int argc, char** argv) {
   pf2::Trajectory corrected = estimate;
   for (size_t i = 0; i < corrected.size(); ++i)
     corrected[i].T_w_c = tracker.keyframes().pose(anchored[i].first) * anchored[i].second;
+  if (verbose && sequence.hasGroundTruth()) {
+    // Each accepted loop edge against the ground-truth relative pose of its two keyframes.
+    for (const auto& loop : tracker.backend().loopClosures()) {
+      Eigen::Isometry3d T_w_a, T_w_b;
+      if (!pf2::interpolateAt(sequence.groundTruth(), tracker.keyframes().keyframe(loop.from)->timestamp, 0.1, &T_w_a) ||
+          !pf2::interpolateAt(sequence.groundTruth(), tracker.keyframes().keyframe(loop.to)->timestamp, 0.1, &T_w_b))
+        continue;
+      const Eigen::Isometry3d error = (T_w_a.inverse() * T_w_b).inverse() * loop.T_from_to;
+      std::printf("loop %3d -> %3d inlier ratio %.2f error %.4f m %.3f deg\n", loop.from, loop.to,
+                  loop.inlier_ratio, error.translation().norm(),
+                  pf2::rotationAngle(error.rotation()) * 180.0 / M_PI);
+    }
+  }
   const double median_ms = pf2::percentile(frame_ms, 50.0);
   const int keyframes = static_cast<int>(tracker.keyframes().size());
   const int loops = static_cast<int>(tracker.backend().loopClosures().size());

@@ -28,6 +28,16 @@ int KeyframeMap::add(Keyframe keyframe, const Eigen::Isometry3d& T_w_k) {
   return keyframes_.back()->id;
 }
 
+int KeyframeMap::addRelative(Keyframe keyframe, int reference_id, const Eigen::Isometry3d& T_ref_k) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (reference_id < 0 || reference_id >= static_cast<int>(poses_.size()))
+    throw Error("KeyframeMap: no keyframe " + std::to_string(reference_id));
+  keyframe.id = static_cast<int>(keyframes_.size());
+  keyframes_.push_back(std::make_shared<const Keyframe>(std::move(keyframe)));
+  poses_.push_back(poses_[reference_id] * T_ref_k);
+  return keyframes_.back()->id;
+}
+
 size_t KeyframeMap::size() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return keyframes_.size();

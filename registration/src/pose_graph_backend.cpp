@@ -1,6 +1,7 @@
 #include "pf2/registration/pose_graph_backend.h"
 
 #include "pf2/core/error.h"
+#include "pf2/core/pose.h"
 
 namespace pf2 {
 namespace {
@@ -136,6 +137,16 @@ void PoseGraphBackend::process(const Pending& pending) {
       const OdometryFrame old = verifier_.prepare(*map_->keyframe(candidate.keyframe_id));
       const OdometryResult check = verifier_.estimateWithoutPrior(old, &current);
       if (!check.valid || check.dense.inlier_ratio < options_.min_loop_inlier_ratio) continue;
+      // The inlier ratio counts only the new keyframe's samples: a keyframe with a small patch of
+      // scene can align wrongly yet fully. The old keyframe is aligned onto the new one as well
+      // (overlap on both sides; views 0.6 m apart overlap asymmetrically, hence a lower ratio),
+      // and both directions must agree.
+      const DenseAlignment back = verifier_.refine(current, old, check.T_ref_cur.inverse());
+      if (!back.valid || back.inlier_ratio < options_.min_loop_reverse_inlier_ratio) continue;
+      const Eigen::Isometry3d asymmetry = back.T_ref_cur * check.T_ref_cur;
+      if (asymmetry.translation().norm() > options_.max_loop_asymmetry_translation ||
+          rotationAngle(asymmetry.rotation()) > options_.max_loop_asymmetry_rotation)
+        continue;
       const PoseGraph::Edge edge =
           makeEdge(candidate.keyframe_id, pending.id, check.T_ref_cur,
                    options_.loop_translation_sigma, options_.loop_rotation_sigma, true);

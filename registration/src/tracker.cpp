@@ -62,14 +62,22 @@ TrackResult Tracker::track(const Frame& frame, const cv::Mat& person_mask) {
   if (!initialised_) {
     const double fraction =
         double(current.valid_depth_pixels) / std::max(1, frame.depth.rows * frame.depth.cols);
-    if (fraction < options_.min_initial_depth_fraction) return result;  // kLost: nothing to start from
+    if (fraction < options_.min_keyframe_depth_fraction) return result;  // kLost: nothing to start from
     SubStageTimer timer(&stats_, &result, "keyframe");
     initialised_ = true;
     result.status = TrackStatus::kOk;
-    createKeyframe(&current, Eigen::Isometry3d::Identity(), &result);
+    createKeyframe(&current, &result);
     return result;
   }
 
+  // Too little static depth (a person filling the view) leaves the pose unconstrained: such a
+  // frame gets no pose rather than a guess that may be tens of centimetres off.
+  const double depth_fraction =
+      double(current.valid_depth_pixels) / std::max(1, frame.depth.rows * frame.depth.cols);
+  if (depth_fraction < options_.min_tracking_depth_fraction) {
+    lost_ = true;
+    return result;  // kLost
+  }
   bool tracked = false;
   if (!lost_) {
     SubStageTimer timer(&stats_, &result, "odometry");
@@ -100,18 +108,25 @@ TrackResult Tracker::track(const Frame& frame, const cv::Mat& person_mask) {
   result.keyframe_id = reference_id_;
   result.T_k_c = T_k_c_;
   result.T_w_c = map_.pose(reference_id_) * T_k_c_;
-  if (selector_.needsKeyframe(T_k_c_, result.odometry.dense.inlier_ratio, frames_since_keyframe_)) {
+  // A keyframe anchors every later frame and loop: it is only made from a frame with enough
+  // static depth (the inlier ratio also drops when a person covers the view; the old keyframe
+  // is kept until the view clears).
+  if (depth_fraction >= options_.min_keyframe_depth_fraction &&
+      selector_.needsKeyframe(T_k_c_, result.odometry.dense.inlier_ratio, frames_since_keyframe_)) {
     SubStageTimer timer(&stats_, &result, "keyframe");
-    createKeyframe(&current, result.T_w_c, &result);
+    createKeyframe(&current, &result);
     result.T_k_c = Eigen::Isometry3d::Identity();
+    result.T_w_c = map_.pose(result.keyframe_id);
   }
   return result;
 }
 
-void Tracker::createKeyframe(OdometryFrame* frame, const Eigen::Isometry3d& T_w_c,
-                             TrackResult* result) {
+void Tracker::createKeyframe(OdometryFrame* frame, TrackResult* result) {
   odometry_.makeReference(frame);
-  const int id = map_.add(makeKeyframe(*frame), T_w_c);
+  // Placed relative to its reference under the map's lock, so a pose-graph correction that lands
+  // between tracking and this call moves the new keyframe along with its reference.
+  const int id = reference_id_ >= 0 ? map_.addRelative(makeKeyframe(*frame), reference_id_, T_k_c_)
+                                    : map_.add(makeKeyframe(*frame), Eigen::Isometry3d::Identity());
   loops_.add(id, frame->descriptors);
   backend_->addKeyframe(id, reference_id_, reference_id_ >= 0 ? T_k_c_ : Eigen::Isometry3d::Identity());
   reference_ = std::move(*frame);
@@ -142,6 +157,8 @@ bool Tracker::relocalise(OdometryFrame* frame, TrackResult* result) {
       if (id == ids.front()) result->odometry = attempt;
       continue;
     }
+    // Relocalisation has no motion prior to confirm it: it needs more overlap than tracking.
+    if (attempt.dense.inlier_ratio < options_.min_relocalisation_inlier_ratio) continue;
     result->odometry = attempt;
     if (id != reference_id_) {
       reference_ = std::move(candidate);

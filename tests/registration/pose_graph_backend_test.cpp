@@ -85,6 +85,72 @@ TEST(PoseGraphBackend, ClosesALoopFoundByAppearanceInItsOwnThread) {
               error_before, error_after, closures.size());
 }
 
+// A new keyframe that sees only a strip of the scene (a person covering the rest) aligns onto
+// an old full view with a high inlier ratio whatever it slides to, since only its own samples
+// count. Aligning the old view back onto the strip finds little overlap: no loop.
+TEST(PoseGraphBackend, LoopVerificationCountsOverlapOnBothSides) {
+  const CameraIntrinsics k = CameraIntrinsics::tumFreiburg1().scaled(0.5);
+  const Eigen::Isometry3d T_w_0 = test::cameraPose(0.0, -0.2, 0.75, 0.05, 0.0, 0.0);
+  const Eigen::Isometry3d T_w_1 = test::cameraPose(0.02, -0.2, 0.73, 0.05, 0.03, 0.0);
+  RgbdOdometry odometry;
+  Frame strip = test::renderRoom(T_w_1, k, 1);
+  strip.depth.rowRange(0, strip.depth.rows * 3 / 4).setTo(0.0f);  // 25 % of the rows left
+  auto run = [&](const PoseGraphBackend::Options& options, const Frame& second) {
+    KeyframeMap map;
+    LoopDetector loops;
+    PoseGraphBackend backend(options, &map, &loops);
+    const Frame frames[2] = {test::renderRoom(T_w_0, k, 0), second};
+    for (int i = 0; i < 2; ++i) {
+      OdometryFrame frame = odometry.prepare(frames[i]);
+      odometry.makeReference(&frame);
+      // No odometry edge between them: the loop is the only link the back-end could make.
+      const int id = map.add(makeKeyframe(frame), Eigen::Isometry3d::Identity());
+      loops.add(id, frame.descriptors);
+      backend.addKeyframe(id, -1, Eigen::Isometry3d::Identity());
+    }
+    backend.processPending();
+    return backend.loopClosures();
+  };
+  PoseGraphBackend::Options options;
+  options.min_loop_gap = 1;
+  EXPECT_TRUE(run(options, strip).empty());
+
+  // The one-sided check alone (the old acceptance rule) passes it; the reverse one does not.
+  OdometryFrame full = odometry.prepare(test::renderRoom(T_w_0, k, 0));
+  odometry.makeReference(&full);
+  OdometryFrame part = odometry.prepare(strip);
+  odometry.makeReference(&part);
+  const OdometryResult forward = odometry.estimateWithoutPrior(full, &part);
+  ASSERT_TRUE(forward.valid);
+  EXPECT_GE(forward.dense.inlier_ratio, options.min_loop_inlier_ratio);
+  const DenseAlignment reverse = odometry.refine(part, full, forward.T_ref_cur.inverse());
+  EXPECT_LT(reverse.inlier_ratio, options.min_loop_reverse_inlier_ratio);
+
+  // The whole second view is accepted, with the right pose.
+  const std::vector<PoseGraphBackend::LoopClosure> whole = run(options, test::renderRoom(T_w_1, k, 1));
+  ASSERT_EQ(whole.size(), 1u);
+  const Eigen::Isometry3d expected = T_w_0.inverse() * T_w_1;
+  EXPECT_LT((whole[0].T_from_to.translation() - expected.translation()).norm(), 0.003);
+}
+
+TEST(KeyframeMap, AddRelativeFollowsACorrectionOfItsReference) {
+  KeyframeMap map;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  map.add(Keyframe(), T);
+  T.translation() = Eigen::Vector3d(1, 0, 0);
+  map.add(Keyframe(), T);
+  // The back-end moves keyframe 1 while tracking measures a new keyframe 0.1 m in front of it.
+  Eigen::Isometry3d moved = T;
+  moved.translation().y() = 0.3;
+  moved.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  map.updatePoses({{1, moved}});
+  Eigen::Isometry3d T_1_new = Eigen::Isometry3d::Identity();
+  T_1_new.translation() = Eigen::Vector3d(0, 0, 0.1);
+  EXPECT_EQ(map.addRelative(Keyframe(), 1, T_1_new), 2);
+  EXPECT_TRUE(map.pose(2).isApprox(moved * T_1_new, 1e-12));
+  EXPECT_THROW(map.addRelative(Keyframe(), 7, T_1_new), Error);
+}
+
 TEST(KeyframeMap, CorrectionsCarryNewerKeyframesAlong) {
   KeyframeMap map;
   Keyframe k;

@@ -75,6 +75,36 @@ TEST(Tracker, NoPoseBeforeTheFirstUsableFrame) {
   EXPECT_LT(first.T_w_c.translation().norm(), 1e-12);  // the world frame is this camera
 }
 
+// A person covering most of the view leaves a sliver of static depth: below
+// min_tracking_depth_fraction the frame gets no pose; above it but below
+// min_keyframe_depth_fraction it is tracked but never becomes a keyframe, even when the selector
+// asks for one (keyframes are made on every frame here).
+TEST(Tracker, ASliverOfDepthGivesNoPoseAndNoKeyframe) {
+  Tracker::Options options = syncOptions();
+  options.keyframes.max_translation = 0.001;
+  Tracker tracker(options);
+  for (int i = 0; i < 3; ++i)
+    ASSERT_TRUE(tracker.track(test::renderRoom(pathPose(i), smallCamera(), i)).keyframe_created);
+
+  Frame band = test::renderRoom(pathPose(3), smallCamera(), 3);
+  band.depth.rowRange(0, band.depth.rows * 6 / 7).setTo(0.0f);  // 14 % left
+  const TrackResult r = tracker.track(band);
+  ASSERT_EQ(r.status, TrackStatus::kOk);
+  EXPECT_FALSE(r.keyframe_created);
+  EXPECT_EQ(tracker.keyframes().size(), 3u);
+  const Eigen::Isometry3d expected = pathPose(0).inverse() * pathPose(3);
+  EXPECT_LT((r.T_w_c.translation() - expected.translation()).norm(), 0.01);
+
+  Frame sliver = test::renderRoom(pathPose(4), smallCamera(), 4);
+  sliver.depth.rowRange(sliver.depth.rows / 25, sliver.depth.rows).setTo(0.0f);  // 4 % left
+  EXPECT_EQ(tracker.track(sliver).status, TrackStatus::kLost);
+  EXPECT_EQ(tracker.keyframes().size(), 3u);
+
+  const TrackResult clear = tracker.track(test::renderRoom(pathPose(5), smallCamera(), 5));
+  ASSERT_NE(clear.status, TrackStatus::kLost);
+  EXPECT_TRUE(clear.keyframe_created);
+}
+
 TEST(Tracker, KeyframesFollowMotion) {
   Tracker::Options options = syncOptions();
   options.keyframes.max_translation = 0.03;

@@ -43,6 +43,9 @@ class KeyframeMap {
  public:
   // Adds the keyframe with pose T_w_k and returns its id (keyframe.id is overwritten).
   int add(Keyframe keyframe, const Eigen::Isometry3d& T_w_k);
+  // Adds the keyframe at T_w_ref * T_ref_k with T_w_ref read under the same lock, so it stays
+  // consistent with a concurrent updatePoses(). Throws pf2::Error for an unknown reference_id.
+  int addRelative(Keyframe keyframe, int reference_id, const Eigen::Isometry3d& T_ref_k);
   size_t size() const;
   // Throws pf2::Error for an unknown id.
   std::shared_ptr<const Keyframe> keyframe(int id) const;

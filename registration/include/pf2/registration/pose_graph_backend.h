@@ -37,6 +37,13 @@ class PoseGraphBackend {
     // A loop is only accepted when the dense verification's inlier ratio reaches this (tracking
     // accepts less: a wrong loop costs more than a lost frame).
     double min_loop_inlier_ratio = 0.7;
+    // The candidate is also aligned onto the new keyframe (from the inverse of the first
+    // result) with at least this inlier ratio (lower: overlap is asymmetric between views far
+    // apart; right loops on the synthetic loop gave 0.5-0.6) ...
+    double min_loop_reverse_inlier_ratio = 0.4;
+    // ... and the two results may differ by at most this much.
+    double max_loop_asymmetry_translation = 0.01;  // metres
+    double max_loop_asymmetry_rotation = 0.01;     // radians
     int min_loop_gap = 10;       // a loop joins keyframes at least this many ids apart
     int max_candidates = 3;      // candidates verified per new keyframe, best-voted first
   };
