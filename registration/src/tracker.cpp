@@ -152,13 +152,13 @@ bool Tracker::relocalise(OdometryFrame* frame, TrackResult* result) {
     OdometryFrame candidate;
     if (id != reference_id_) candidate = odometry_.prepare(*map_.keyframe(id));
     const OdometryFrame& keyframe = id == reference_id_ ? reference_ : candidate;
-    const OdometryResult attempt = odometry_.estimateWithoutPrior(keyframe, frame);
+    OdometryResult attempt = odometry_.estimateWithoutPrior(keyframe, frame);
+    // Relocalisation has no motion prior to confirm it: it needs more overlap than tracking.
+    if (attempt.dense.inlier_ratio < options_.min_relocalisation_inlier_ratio) attempt.valid = false;
     if (!attempt.valid) {
       if (id == ids.front()) result->odometry = attempt;
       continue;
     }
-    // Relocalisation has no motion prior to confirm it: it needs more overlap than tracking.
-    if (attempt.dense.inlier_ratio < options_.min_relocalisation_inlier_ratio) continue;
     result->odometry = attempt;
     if (id != reference_id_) {
       reference_ = std::move(candidate);

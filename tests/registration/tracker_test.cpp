@@ -105,6 +105,30 @@ TEST(Tracker, ASliverOfDepthGivesNoPoseAndNoKeyframe) {
   EXPECT_TRUE(clear.keyframe_created);
 }
 
+// Without a motion prior a relocalisation is trusted only with more overlap than tracking
+// needs: a view turned 0.6 rad from the only keyframe (inlier ratio about 0.45) stays lost; one
+// turned 0.3 rad (about 0.7) is relocalised.
+TEST(Tracker, RelocalisationNeedsMoreOverlapThanTracking) {
+  Tracker tracker(syncOptions());
+  ASSERT_EQ(tracker.track(test::renderRoom(pathPose(0), smallCamera(), 0)).status, TrackStatus::kOk);
+  Frame noise = test::renderRoom(pathPose(1), smallCamera(), 1);
+  cv::randu(noise.depth, cv::Scalar(0.3), cv::Scalar(5.0));
+  cv::randu(noise.rgb, cv::Scalar::all(0), cv::Scalar::all(255));
+  ASSERT_EQ(tracker.track(noise).status, TrackStatus::kLost);
+
+  const Eigen::Isometry3d far = pathPose(0) * test::cameraPose(0, 0, 0, 0, 0.6, 0);
+  const TrackResult weak = tracker.track(test::renderRoom(far, smallCamera(), 2));
+  EXPECT_EQ(weak.status, TrackStatus::kLost);
+  EXPECT_GT(weak.odometry.dense.inlier_ratio, 0.0);  // it was tried and aligned, with little overlap
+  EXPECT_LT(weak.odometry.dense.inlier_ratio, tracker.options().min_relocalisation_inlier_ratio);
+
+  const Eigen::Isometry3d near = pathPose(0) * test::cameraPose(0, 0, 0, 0, 0.3, 0);
+  const TrackResult back = tracker.track(test::renderRoom(near, smallCamera(), 3));
+  ASSERT_EQ(back.status, TrackStatus::kRelocalised);
+  const Eigen::Isometry3d expected = pathPose(0).inverse() * near;
+  EXPECT_LT((back.T_w_c.translation() - expected.translation()).norm(), 0.005);
+}
+
 TEST(Tracker, KeyframesFollowMotion) {
   Tracker::Options options = syncOptions();
   options.keyframes.max_translation = 0.03;
