@@ -46,10 +46,11 @@ cv::Mat dilated(const cv::Mat& mask, int radius) {
 }
 
 // Forward-warps depth (and a companion CV_8U image) into another view, nearest point wins. The
-// outputs are reused when they already have the right size. Returns the bounds of what landed.
+// outputs are reused when they already have the right size. Only source pixels inside source_area
+// are read (the caller knows the rest is zero). Returns the bounds of what landed.
 cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
                            const CameraIntrinsics& K, const Eigen::Isometry3d& T_dst_src,
-                           cv::Mat* depth_dst, cv::Mat* companion_dst) {
+                           const cv::Rect& source_area, cv::Mat* depth_dst, cv::Mat* companion_dst) {
   depth_dst->create(depth_src.size(), CV_32F);
   depth_dst->setTo(0);
   if (companion_dst) {
@@ -65,10 +66,11 @@ cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_sr
   std::vector<Eigen::Vector3f> column_ray(depth_src.cols);
   for (int u = 0; u < depth_src.cols; ++u) column_ray[u] = R.col(0) * ((u - cx) / fx);
   const int width = depth_src.cols, height = depth_src.rows;
-  for (int v = 0; v < height; ++v) {
+  const cv::Rect area = source_area & cv::Rect(0, 0, width, height);
+  for (int v = area.y; v < area.y + area.height; ++v) {
     const float* row = depth_src.ptr<float>(v);
     const Eigen::Vector3f row_ray = R.col(1) * ((v - cy) / fy) + R.col(2);
-    for (int u = 0; u < width; ++u) {
+    for (int u = area.x; u < area.x + area.width; ++u) {
       const float z = row[u];
       if (!(z > 0.f)) continue;
       const Eigen::Vector3f p_dst = z * (column_ray[u] + row_ray) + t;
@@ -181,7 +183,8 @@ cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
 cv::Mat warpDepth(const cv::Mat& depth_src, const CameraIntrinsics& intrinsics,
                   const Eigen::Isometry3d& T_dst_src) {
   cv::Mat out;  // a fresh image: the caller keeps it
-  warpWithCompanion(depth_src, cv::Mat(), intrinsics, T_dst_src, &out, nullptr);
+  warpWithCompanion(depth_src, cv::Mat(), intrinsics, T_dst_src, cv::Rect(0, 0, depth_src.cols, depth_src.rows), &out,
+                    nullptr);
   return out;
 }
 
@@ -302,7 +305,8 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     age.setTo(0);
     if (!previous_depth_.empty() && previous_depth_.size() == size) {
       const cv::Rect bounds =
-          warpWithCompanion(previous_depth_, previous_age_, intrinsics_, T_cur_prev, &warped_, &warped_age_);
+          warpWithCompanion(previous_depth_, previous_age_, intrinsics_, T_cur_prev, previous_bounds_, &warped_,
+                            &warped_age_);
       if (!bounds.empty()) {
         const int r = std::max(0, o.temporal_dilation);
         const cv::Rect area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
@@ -408,6 +412,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     // Only people's pixels and pixels guarded for them carry over: ring outliers and geometric
     // removals may be background, and carrying those would let the guard spread over it.
     previous_depth_.create(size, CV_32F);
+    int u_min = size.width, v_min = size.height, u_max = -1, v_max = -1;
     for (int v = 0; v < size.height; ++v) {
       const float* d = depth.ptr<float>(v);
       const uint8_t* s = state.ptr<uint8_t>(v);
@@ -415,8 +420,15 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
       float* p = previous_depth_.ptr<float>(v);
       for (int u = 0; u < size.width; ++u) {
         p[u] = ((s[u] != kKept && s[u] != kRemoved) || a[u] > 0) ? d[u] : 0.f;
+        if (p[u] != 0.f) {
+          u_min = std::min(u_min, u);
+          u_max = std::max(u_max, u);
+          v_min = std::min(v_min, v);
+          v_max = std::max(v_max, v);
+        }
       }
     }
+    previous_bounds_ = u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
     std::swap(previous_age_, age_);  // zero (box-supported) except for temporally guarded pixels
   }
   return result;

@@ -167,6 +167,7 @@ class DualBBoxFilter {
   cv::Mat age_, warped_, warped_age_, inverse_, nearest_inverse_, farthest_, age_or_max_, youngest_;
   cv::Mat previous_depth_;  // depth of last frame's removed pixels, 0 elsewhere
   cv::Mat previous_age_;    // CV_8U frames since a box last supported each removed pixel
+  cv::Rect previous_bounds_;  // bounds of previous_depth_'s non-zero pixels: the warp scans only these
 };
 
 // Integer pixel rectangle of a box scaled by `scale` about its centre, clipped to the image.
