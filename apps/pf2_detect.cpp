@@ -67,6 +67,10 @@ const char* kUsage =
     "  --human-window M       width of the person's principal depth window, metres (default 1.0)\n"
     "  --grow-fraction F      window grows into bins holding >= F x its mean bin (default 0.03)\n"
     "  --near-preference F    nearest window holding >= F x the best count wins (default 0.6)\n"
+    "  --surround-weight W    take W x the density of depths around a box off its histogram\n"
+    "                         (default 0.5; 0 = the plain histogram)\n"
+    "  --surround-scale S     the surround is the box enlarged by S (default 2)\n"
+    "  --separate-occlusions B  1: overlapping boxes that found one person look again (default 1)\n"
     "  --use-mask             also remove backend masks (dilated) where a backend gives them\n"
     "  --temporal             guard last frame's removed pixels, moved by groundtruth.txt motion\n"
     "  --geometric            remove depth in front of a static model: the farthest static depth\n"
@@ -177,6 +181,9 @@ int run(int argc, char** argv) {
   human.window = cli.number("--human-window", human.window);
   human.grow_fraction = cli.number("--grow-fraction", human.grow_fraction);
   human.near_preference = cli.number("--near-preference", human.near_preference);
+  human.surround_weight = cli.number("--surround-weight", human.surround_weight);
+  filter_options.surround_scale = cli.number("--surround-scale", filter_options.surround_scale);
+  filter_options.separate_occlusions = cli.integer("--separate-occlusions", 1) != 0;
   filter_options.use_mask = cli.flag("--use-mask");
   filter_options.temporal = cli.flag("--temporal");
   filter_options.geometric = cli.flag("--geometric");

@@ -93,6 +93,61 @@ cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_sr
   return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
 }
 
+// A box the filter uses: confident and not empty once clipped to the image.
+struct FilterBox {
+  int detection;
+  cv::Rect rect;      // the box
+  cv::Rect ring;      // the box enlarged by lambda (Algorithm 1's background check)
+  cv::Rect surround;  // the box enlarged by surround_scale (what the person stands against)
+  cv::Mat mask;       // dilated backend mask (use_mask), else empty
+};
+
+// Share of rect's valid depths (every second pixel and row) inside interval +- margin.
+double shareInInterval(const cv::Mat& depth, const cv::Rect& rect, const DepthInterval& interval, float margin) {
+  long inside = 0, valid = 0;
+  for (int v = rect.y; v < rect.y + rect.height; v += 2) {
+    const float* d = depth.ptr<float>(v);
+    for (int u = rect.x; u < rect.x + rect.width; u += 2) {
+      if (!(d[u] > 0.f)) continue;
+      ++valid;
+      if (interval.contains(d[u], margin)) ++inside;
+    }
+  }
+  return valid > 0 ? static_cast<double>(inside) / valid : 0.0;
+}
+
+// Two overlapping boxes whose intervals overlap may have found one person: the nearer of two
+// people, who occludes the other, or the farther one seen through a gap. The box where that depth
+// fills the smaller share then takes a second interval over its depths outside the first (the
+// person it may have missed); both are removed. Two people side by side at one depth lose nothing:
+// the second interval only adds. Boxes with a backend mask took their interval over the mask and
+// get none. second_intervals[t] stays invalid for the others.
+void findOccludedIntervals(const cv::Mat& depth, const std::vector<FilterBox>& boxes, const HistogramOptions& histogram,
+                           float margin, const std::vector<DepthInterval>& intervals,
+                           std::vector<DepthInterval>* second_intervals) {
+  second_intervals->assign(boxes.size(), DepthInterval());
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    if (!boxes[t].mask.empty()) continue;
+    for (size_t s = 0; s < boxes.size() && !(*second_intervals)[t].valid; ++s) {
+      const DepthInterval& mine = intervals[t];
+      const DepthInterval& theirs = intervals[s];
+      if (s == t || !mine.valid || !theirs.valid || (boxes[s].rect & boxes[t].rect).empty()) continue;
+      if (mine.min - margin >= theirs.max + margin || theirs.min - margin >= mine.max + margin) continue;
+      if (shareInInterval(depth, boxes[t].rect, mine, margin) >= shareInInterval(depth, boxes[s].rect, theirs, margin)) {
+        continue;  // the person is this box's
+      }
+      const cv::Rect& r = boxes[t].rect;
+      cv::Mat others = cv::Mat::zeros(depth.size(), CV_8U);
+      for (int v = r.y; v < r.y + r.height; ++v) {
+        const float* d = depth.ptr<float>(v);
+        uint8_t* m = others.ptr<uint8_t>(v);
+        for (int u = r.x; u < r.x + r.width; ++u) m[u] = theirs.contains(d[u], margin) ? 0 : 255;
+      }
+      (*second_intervals)[t] = principalInterval(depth, others, r, histogram, boxes[t].surround);
+    }
+  }
+}
+
 }  // namespace
 
 cv::Rect scaledBoxRect(const PersonBox& box, double scale, const cv::Size& image) {
@@ -112,44 +167,62 @@ cv::Rect scaledBoxRect(const PersonBox& box, double scale, const cv::Size& image
 }
 
 DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi,
-                                const HistogramOptions& options) {
+                                const HistogramOptions& options, const cv::Rect& surround) {
   DepthInterval interval;
-  const cv::Rect r = roi & cv::Rect(0, 0, depth.cols, depth.rows);
+  const cv::Rect image(0, 0, depth.cols, depth.rows);
+  const cv::Rect r = roi & image;
   if (r.empty() || options.bin_width <= 0 || options.max_depth <= 0) return interval;
   const int bins = static_cast<int>(std::ceil(options.max_depth / options.bin_width));
-  std::vector<int> counts(bins, 0);
   const float inv_bin = static_cast<float>(1.0 / options.bin_width);
   const float max_depth = static_cast<float>(options.max_depth);
   const int stride = std::max(1, options.stride);
-  for (int v = r.y; v < r.y + r.height; v += stride) {
+  // Adds `weight` per valid depth of row v, columns [u0, u1), under `under` (if any) to counts.
+  auto countRow = [&](int v, int u0, int u1, const cv::Mat& under, double weight, std::vector<double>* counts) {
     const float* d = depth.ptr<float>(v);
-    const uint8_t* m = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
-    for (int u = r.x; u < r.x + r.width; u += stride) {
+    const uint8_t* m = under.empty() ? nullptr : under.ptr<uint8_t>(v);
+    for (int u = u0; u < u1; u += stride) {
       if (m && !m[u]) continue;
       const float z = d[u];
       if (!(z > 0.f && z < max_depth)) continue;  // also rejects NaN
-      counts[std::min(bins - 1, static_cast<int>(z * inv_bin))]++;
+      (*counts)[std::min(bins - 1, static_cast<int>(z * inv_bin))] += weight;
     }
+  };
+  std::vector<double> counts(bins, 0.0);
+  for (int v = r.y; v < r.y + r.height; v += stride) countRow(v, r.x, r.x + r.width, mask, 1.0, &counts);
+  const cv::Rect around = surround & image;
+  const double around_area = static_cast<double>(around.area()) - static_cast<double>((around & r).area());
+  if (options.surround_weight > 0 && around_area > 0) {
+    std::vector<double> background(bins, 0.0);
+    const double weight = options.surround_weight * r.area() / around_area;
+    for (int v = around.y; v < around.y + around.height; v += stride) {
+      if (v >= r.y && v < r.y + r.height) {  // the rows beside roi: left and right of it
+        countRow(v, around.x, std::min(r.x, around.x + around.width), cv::Mat(), weight, &background);
+        countRow(v, std::max(around.x, r.x + r.width), around.x + around.width, cv::Mat(), weight, &background);
+      } else {
+        countRow(v, around.x, around.x + around.width, cv::Mat(), weight, &background);
+      }
+    }
+    for (int b = 0; b < bins; ++b) counts[b] = std::max(0.0, counts[b] - background[b]);
   }
   const int window = std::max(1, std::min(bins, static_cast<int>(std::lround(options.window / options.bin_width))));
-  std::vector<long> sums(bins - window + 1, 0);
-  long running = 0;
+  std::vector<double> sums(bins - window + 1, 0.0);
+  double running = 0;
   for (int b = 0; b < bins; ++b) {
     running += counts[b];
     if (b >= window) running -= counts[b - window];
     if (b >= window - 1) sums[b - window + 1] = running;
   }
-  const long best = *std::max_element(sums.begin(), sums.end());
+  const double best = *std::max_element(sums.begin(), sums.end());
   if (best <= 0) return interval;
   // The nearest window good enough, moved to the top of the hill it starts on.
-  const double threshold = options.near_preference * static_cast<double>(best);
+  const double threshold = options.near_preference * best;
   size_t a = 0;
-  while (a < sums.size() && static_cast<double>(sums[a]) < threshold) ++a;
+  while (a < sums.size() && sums[a] < threshold) ++a;
   size_t chosen = a;
-  for (size_t b = a; b < sums.size() && static_cast<double>(sums[b]) >= threshold; ++b) {
+  for (size_t b = a; b < sums.size() && sums[b] >= threshold; ++b) {
     if (sums[b] > sums[chosen]) chosen = b;
   }
-  const double grow = options.grow_fraction * static_cast<double>(sums[chosen]) / window;
+  const double grow = options.grow_fraction * sums[chosen] / window;
   int lo = static_cast<int>(chosen), hi = static_cast<int>(chosen) + window - 1;
   while (lo > 0 && counts[lo - 1] > 0 && counts[lo - 1] >= grow) --lo;
   while (hi < bins - 1 && counts[hi + 1] > 0 && counts[hi + 1] >= grow) ++hi;
@@ -217,17 +290,12 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   const cv::Size size = depth.size();
   const Options& o = options_;
 
-  // Boxes the paper uses: confident and not empty once clipped to the image.
-  struct Box {
-    int detection;
-    cv::Rect rect, ring;
-    cv::Mat mask;  // dilated backend mask (use_mask), else empty
-  };
-  std::vector<Box> boxes;
+  std::vector<FilterBox> boxes;
   for (size_t i = 0; i < detections.people.size() && boxes.size() < static_cast<size_t>(kMaxPeople); ++i) {
     const PersonDetection& p = detections.people[i];
     if (!(p.score > o.min_confidence)) continue;
-    Box b{static_cast<int>(i), scaledBoxRect(p.box, 1.0, size), scaledBoxRect(p.box, o.box_scale, size), {}};
+    FilterBox b{static_cast<int>(i), scaledBoxRect(p.box, 1.0, size), scaledBoxRect(p.box, o.box_scale, size),
+                scaledBoxRect(p.box, o.surround_scale, size), {}};
     if (o.use_mask && !p.mask.empty() && p.mask.size() == size && p.mask.type() == CV_8U) {
       b.mask = dilated(p.mask, o.mask_dilation);
     }
@@ -239,7 +307,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   outside_.create(size, CV_8U);
   outside_.setTo(255);
   cv::Mat& outside = outside_;
-  for (const Box& b : boxes) outside(b.rect).setTo(0);
+  for (const FilterBox& b : boxes) outside(b.rect).setTo(0);
   Result result;
   result.background = principalInterval(depth, outside, cv::Rect(0, 0, size.width, size.height),
                                         o.background_histogram);
@@ -251,21 +319,32 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   std::vector<cv::Rect> areas(boxes.size());  // where each person's pixels can be
   const float human_margin = static_cast<float>(o.human_margin);
   for (size_t t = 0; t < boxes.size(); ++t) {
-    const Box& b = boxes[t];
-    cv::Mat histogram_mask;
-    if (!b.mask.empty()) histogram_mask = detections.people[b.detection].mask;
-    intervals[t] = principalInterval(depth, histogram_mask, b.rect, o.human_histogram);
-    if (!intervals[t].valid && !histogram_mask.empty()) {
-      intervals[t] = principalInterval(depth, cv::Mat(), b.rect, o.human_histogram);
+    const FilterBox& b = boxes[t];
+    if (!b.mask.empty()) {
+      // With a mask the histogram is the person's already.
+      const cv::Mat& mask = detections.people[b.detection].mask;
+      intervals[t] = principalInterval(depth, mask, b.rect, o.human_histogram);
+      if (intervals[t].valid) continue;
     }
+    intervals[t] = principalInterval(depth, cv::Mat(), b.rect, o.human_histogram, b.surround);
+  }
+  std::vector<DepthInterval> second_intervals(boxes.size());
+  if (o.separate_occlusions) {
+    findOccludedIntervals(depth, boxes, o.human_histogram, human_margin, intervals, &second_intervals);
+  }
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    const FilterBox& b = boxes[t];
     const uint8_t label = static_cast<uint8_t>(t + 1);
     const DepthInterval& h = intervals[t];
+    const DepthInterval& h2 = second_intervals[t];
     areas[t] = b.rect;
     for (int v = b.rect.y; v < b.rect.y + b.rect.height; ++v) {
       const float* d = depth.ptr<float>(v);
       uint8_t* s = state.ptr<uint8_t>(v);
       for (int u = b.rect.x; u < b.rect.x + b.rect.width; ++u) {
-        if (s[u] == kKept && d[u] > 0.f && h.contains(d[u], human_margin)) s[u] = label;
+        if (s[u] == kKept && d[u] > 0.f && (h.contains(d[u], human_margin) || h2.contains(d[u], human_margin))) {
+          s[u] = label;
+        }
       }
     }
     if (!b.mask.empty()) {
@@ -283,7 +362,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   }
   // The ring between each box and its lambda-enlarged box: depth unlike the background is removed.
   const float background_margin = static_cast<float>(o.background_margin);
-  for (const Box& b : boxes) {
+  for (const FilterBox& b : boxes) {
     for (int v = b.ring.y; v < b.ring.y + b.ring.height; ++v) {
       const float* d = depth.ptr<float>(v);
       const uint8_t* out = outside.ptr<uint8_t>(v);

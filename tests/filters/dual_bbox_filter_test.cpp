@@ -92,6 +92,49 @@ TEST(PrincipalInterval, MaskRoiAndInvalidDepths) {
   EXPECT_FALSE(principalInterval(depth, cv::Mat(), cv::Rect(10, 10, 3, 3), o).valid);  // outside
 }
 
+TEST(PrincipalInterval, SurroundContrastKeepsTheWallFromWinning) {
+  // A 10x10 box holding 30 px of a person at 1.2 m and 70 px of wall at 4.0 m; the surround (the
+  // 20x20 square around it) is all wall: 300 px outside the box.
+  cv::Mat depth(20, 20, CV_32F, cv::Scalar(4.0f));
+  const cv::Rect box(5, 5, 10, 10), surround(0, 0, 20, 20);
+  depth(cv::Rect(5, 5, 3, 10)).setTo(1.2f);
+  HistogramOptions o{0.05, 10.0, 0.4, 0.25, 0.6};
+  // Plain counts: 30 < 0.6 x 70, so the wall wins.
+  const DepthInterval plain = principalInterval(depth, cv::Mat(), box, o, surround);
+  ASSERT_TRUE(plain.valid);
+  EXPECT_NEAR(plain.min, 4.0, 1e-9);
+  // Weight 0.5: the wall bin loses 0.5 x (100 / 300) x 300 = 50 of its 70; the person's 30 win.
+  o.surround_weight = 0.5;
+  const DepthInterval contrasted = principalInterval(depth, cv::Mat(), box, o, surround);
+  ASSERT_TRUE(contrasted.valid);
+  EXPECT_NEAR(contrasted.min, 1.2, 1e-9);
+  EXPECT_NEAR(contrasted.max, 1.25, 1e-9);
+  // Without a surround the weight does nothing.
+  EXPECT_NEAR(principalInterval(depth, cv::Mat(), box, o).min, 4.0, 1e-9);
+}
+
+TEST(DualBBoxFilter, OccludedPersonInsideANearerPersonsBoxIsRemoved) {
+  // A 60x40 scene at 5 m. Person A at 1.0 m fills cols 0..29, rows 20..39 (box (0,20)-(30,40));
+  // person B at 3.0 m stands behind, cols 10..19, rows 5..19 visible (box (10,5)-(20,35), its
+  // lower half covered by A). B's box holds 150 px of A and 150 px of B: both boxes find A.
+  cv::Mat depth(40, 60, CV_32F, cv::Scalar(5.0f));
+  depth(cv::Rect(10, 5, 10, 15)).setTo(3.0f);
+  depth(cv::Rect(0, 20, 30, 20)).setTo(1.0f);
+  const Detections people = detections({person(0, 20, 30, 40), person(10, 5, 20, 35)});
+  DualBBoxFilter::Options o = testOptions();
+  o.separate_occlusions = false;
+  const auto alone = DualBBoxFilter(o).filter(depth, people);
+  const cv::Rect b_visible(10, 5, 10, 15);
+  EXPECT_EQ(cv::countNonZero(alone.removed(b_visible)), 0);  // B given back: its box found A
+  o.separate_occlusions = true;
+  const auto separated = DualBBoxFilter(o).filter(depth, people);
+  EXPECT_EQ(cv::countNonZero(separated.removed(b_visible)), 150);  // A fills 100 % of its box, 50 % of B's
+  EXPECT_EQ(cv::countNonZero(separated.removed(cv::Rect(0, 20, 30, 20))), 600);  // A still removed
+  ASSERT_EQ(separated.people.size(), 2u);
+  EXPECT_NEAR(separated.people[1].interval.min, 1.0, 1e-9);  // B's first interval is kept as found
+  EXPECT_EQ(cv::countNonZero(separated.removed), 750);       // nothing else: the wall stays
+}
+
 TEST(DualBBoxFilter, Algorithm1OnHandMadeScene) {
   const Scene scene;
   DualBBoxFilter filter(testOptions());

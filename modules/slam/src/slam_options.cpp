@@ -35,6 +35,9 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   f.box_scale = config.number("filter.box_scale", f.box_scale);
   f.background_margin = config.number("filter.background_margin", f.background_margin);
   f.human_margin = config.number("filter.human_margin", f.human_margin);
+  f.human_histogram.surround_weight = config.number("filter.surround_weight", f.human_histogram.surround_weight);
+  f.surround_scale = config.number("filter.surround_scale", f.surround_scale);
+  f.separate_occlusions = config.boolean("filter.separate_occlusions", f.separate_occlusions);
   f.use_mask = config.boolean("filter.use_mask", f.use_mask);
   f.mask_dilation = config.integer("filter.mask_dilation", f.mask_dilation);
   f.temporal = config.boolean("filter.temporal", f.temporal);

@@ -54,16 +54,24 @@ struct HistogramOptions {
                                 // window's count wins (1 = plain maximum): a person occludes what
                                 // is behind them, so their mode is the nearest large one
   int stride = 1;               // every stride-th pixel of every stride-th row is counted (speed)
+  double surround_weight = 0.0; // with a surround given: what is as dense around the box as in it
+                                // is background, so the surround's counts, scaled to the box's
+                                // area and by this weight, are taken off the box's (0 = plain counts)
 };
 
 // Histogram of the valid depths (finite, > 0, < max_depth) of `depth` where `mask` is non-zero (an
-// empty mask counts all pixels) inside `roi`. The principal interval is the window of
-// options.window metres (a whole number of bins) holding the most depths; among windows holding at
-// least near_preference of that count the nearest is taken; it is then grown bin by bin on either
-// side while the neighbouring bin holds >= grow_fraction x the window's mean bin count. The
-// interval spans the outer edges of the chosen bins. Thread safe.
+// empty mask counts all pixels) inside `roi`. With a non-empty `surround` (a rectangle around roi,
+// e.g. the box enlarged by lambda) and options.surround_weight > 0, each bin loses
+// surround_weight x (roi's area / the area of surround minus roi) x the bin's count over the pixels
+// of surround outside roi, floored at 0: a person is what is dense in the box and not around it,
+// which keeps a wall that fills most of a wide box, or a nearer person whose box contains this
+// one, from winning. The principal interval is the window of options.window metres (a whole number
+// of bins) holding the most depths; among windows holding at least near_preference of that count
+// the nearest is taken; it is then grown bin by bin on either side while the neighbouring bin holds
+// >= grow_fraction x the window's mean bin count. The interval spans the outer edges of the chosen
+// bins. Thread safe.
 DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi,
-                                const HistogramOptions& options);
+                                const HistogramOptions& options, const cv::Rect& surround = cv::Rect());
 
 // Source of "this depth is dynamic" evidence, e.g. depth that lies in front of what the static map
 // predicts for this view. The map is built later in the pipeline; it implements this interface.
@@ -103,7 +111,13 @@ class DualBBoxFilter {
     double box_scale = 1.2;          // lambda: boxes enlarged about their centre for the ring
     double background_margin = 0.1;  // metres around (b_min, b_max)
     double human_margin = 0.2;       // metres around (h_min, h_max)
-    HistogramOptions human_histogram;             // for each box's D_h^t
+    double surround_scale = 2.0;     // box enlarged by this about its centre is the surround whose
+                                     // depths human_histogram.surround_weight takes off the box's
+    bool separate_occlusions = true; // overlapping boxes that found the same person: the box where
+                                     // that person is less dense looks again (see the .cpp)
+    HistogramOptions human_histogram{0.05, 10.0, 1.0, 0.03, 0.6, 1, 0.5};  // for each box's D_h^t:
+                                     // HistogramOptions' defaults, with half the surround's
+                                     // density taken off (0.5: measured, docs/filters.md)
     HistogramOptions background_histogram{0.05, 10.0, 0.4, 0.25, 1.0, 2};  // for D_b: the most
                                      // populated 0.4 m (plain maximum), grown by bins >= 25 %,
                                      // counted on every second pixel and row
