@@ -176,33 +176,44 @@ DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const
   const float inv_bin = static_cast<float>(1.0 / options.bin_width);
   const float max_depth = static_cast<float>(options.max_depth);
   const int stride = std::max(1, options.stride);
-  // Adds `weight` per valid depth of row v, columns [u0, u1), under `under` (if any) to counts.
-  auto countRow = [&](int v, int u0, int u1, const cv::Mat& under, double weight, std::vector<double>* counts) {
+  // Counts the valid depths of every step-th pixel of row v in [u0, u1) under `under` (if any);
+  // returns how many pixels it looked at, with depth or not.
+  auto countRow = [&](int v, int u0, int u1, int step, const cv::Mat& under, std::vector<int>* counts) {
     const float* d = depth.ptr<float>(v);
     const uint8_t* m = under.empty() ? nullptr : under.ptr<uint8_t>(v);
-    for (int u = u0; u < u1; u += stride) {
+    long looked = 0;
+    for (int u = u0; u < u1; u += step) {
       if (m && !m[u]) continue;
+      ++looked;
       const float z = d[u];
       if (!(z > 0.f && z < max_depth)) continue;  // also rejects NaN
-      (*counts)[std::min(bins - 1, static_cast<int>(z * inv_bin))] += weight;
+      ++(*counts)[std::min(bins - 1, static_cast<int>(z * inv_bin))];
     }
+    return looked;
   };
-  std::vector<double> counts(bins, 0.0);
-  for (int v = r.y; v < r.y + r.height; v += stride) countRow(v, r.x, r.x + r.width, mask, 1.0, &counts);
+  std::vector<int> roi_counts(bins, 0);
+  long roi_pixels = 0;
+  for (int v = r.y; v < r.y + r.height; v += stride) roi_pixels += countRow(v, r.x, r.x + r.width, stride, mask, &roi_counts);
+  std::vector<double> counts(roi_counts.begin(), roi_counts.end());
   const cv::Rect around = surround & image;
-  const double around_area = static_cast<double>(around.area()) - static_cast<double>((around & r).area());
-  if (options.surround_weight > 0 && around_area > 0) {
-    std::vector<double> background(bins, 0.0);
-    const double weight = options.surround_weight * r.area() / around_area;
-    for (int v = around.y; v < around.y + around.height; v += stride) {
+  if (options.surround_weight > 0 && !around.empty()) {
+    // Only the density matters here: every second pixel and row is enough.
+    const int step = 2 * stride;
+    std::vector<int> background(bins, 0);
+    long around_pixels = 0;
+    for (int v = around.y; v < around.y + around.height; v += step) {
       if (v >= r.y && v < r.y + r.height) {  // the rows beside roi: left and right of it
-        countRow(v, around.x, std::min(r.x, around.x + around.width), cv::Mat(), weight, &background);
-        countRow(v, std::max(around.x, r.x + r.width), around.x + around.width, cv::Mat(), weight, &background);
+        around_pixels += countRow(v, around.x, std::min(r.x, around.x + around.width), step, cv::Mat(), &background);
+        around_pixels += countRow(v, std::max(around.x, r.x + r.width), around.x + around.width, step, cv::Mat(), &background);
       } else {
-        countRow(v, around.x, around.x + around.width, cv::Mat(), weight, &background);
+        around_pixels += countRow(v, around.x, around.x + around.width, step, cv::Mat(), &background);
       }
     }
-    for (int b = 0; b < bins; ++b) counts[b] = std::max(0.0, counts[b] - background[b]);
+    if (around_pixels > 0) {
+      // Density around x the pixels looked at in roi (a mask's pixels only, with a mask).
+      const double weight = options.surround_weight * static_cast<double>(roi_pixels) / around_pixels;
+      for (int b = 0; b < bins; ++b) counts[b] = std::max(0.0, counts[b] - weight * background[b]);
+    }
   }
   const int window = std::max(1, std::min(bins, static_cast<int>(std::lround(options.window / options.bin_width))));
   std::vector<double> sums(bins - window + 1, 0.0);
@@ -375,24 +386,27 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     }
   }
 
-  // Temporal addition. All images are members reused from frame to frame (fresh full-size
-  // images cost more in page faults than the work itself); the area-sized steps run on ROIs of
-  // them with isolated borders.
+  // Temporal addition, at half resolution: last frame's carried pixels are sampled every second
+  // pixel and row, moved and dilated on a 320x240 grid, and each full-resolution pixel is checked
+  // against its grid cell (the dilation, 6 px, is coarser than the grid anyway). All images are
+  // members reused from frame to frame (fresh images cost more in page faults than the work); the
+  // area-sized steps run on ROIs of them with isolated borders.
   cv::Mat& age = age_;  // frames since a box supported each removed pixel
+  const cv::Size half((size.width + 1) / 2, (size.height + 1) / 2);
+  cv::Rect guarded_area;  // full-resolution pixels the guard looked at
   if (o.temporal) {
     age.create(size, CV_8U);
     age.setTo(0);
-    if (!previous_depth_.empty() && previous_depth_.size() == size) {
-      const cv::Rect bounds =
-          warpWithCompanion(previous_depth_, previous_age_, intrinsics_, T_cur_prev, previous_bounds_, &warped_,
-                            &warped_age_);
+    if (!previous_depth_.empty() && previous_depth_.size() == half) {
+      const cv::Rect bounds = warpWithCompanion(previous_depth_, previous_age_, intrinsics_.scaled(0.5), T_cur_prev,
+                                                previous_bounds_, &warped_, &warped_age_);
       if (!bounds.empty()) {
-        const int r = std::max(0, o.temporal_dilation);
+        const int r = std::max(0, (o.temporal_dilation + 1) / 2);
         const cv::Rect area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
-                              cv::Rect(0, 0, size.width, size.height);
-        // Nearest and farthest moved depth around each pixel, and the youngest age there.
-        for (cv::Mat* m : {&inverse_, &nearest_inverse_, &farthest_}) m->create(size, CV_32F);
-        for (cv::Mat* m : {&age_or_max_, &youngest_}) m->create(size, CV_8U);
+                              cv::Rect(0, 0, half.width, half.height);
+        // Nearest and farthest moved depth around each cell, and the youngest age there.
+        for (cv::Mat* m : {&inverse_, &nearest_inverse_, &farthest_}) m->create(half, CV_32F);
+        for (cv::Mat* m : {&age_or_max_, &youngest_}) m->create(half, CV_8U);
         for (int v = area.y; v < area.y + area.height; ++v) {
           const float* w = warped_.ptr<float>(v);
           const uint8_t* a = warped_age_.ptr<uint8_t>(v);
@@ -412,19 +426,37 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
         cv::dilate(inverse_(area), nearest_inverse, kernel, anchor, 1, border, cv::Scalar(0));
         cv::dilate(warped_(area), farthest, kernel, anchor, 1, border, cv::Scalar(0));
         cv::erode(age_or_max_(area), youngest, kernel, anchor, 1, border, cv::Scalar(255));
+        // Per cell, the depth range a pixel must fall in to be guarded: (nearest - margin,
+        // farthest + margin), empty where nothing moved near or the youngest pixel is too old.
         const float margin = static_cast<float>(o.temporal_margin);
+        for (cv::Mat* m : {&guard_low_, &guard_high_}) m->create(half, CV_32F);
         for (int v = 0; v < area.height; ++v) {
-          const float* d = depth.ptr<float>(v + area.y) + area.x;
           const float* ni = nearest_inverse.ptr<float>(v);
           const float* fa = farthest.ptr<float>(v);
           const uint8_t* yo = youngest.ptr<uint8_t>(v);
-          uint8_t* s = state.ptr<uint8_t>(v + area.y) + area.x;
-          uint8_t* ag = age.ptr<uint8_t>(v + area.y) + area.x;
+          float* low = guard_low_.ptr<float>(v + area.y) + area.x;
+          float* high = guard_high_.ptr<float>(v + area.y) + area.x;
           for (int u = 0; u < area.width; ++u) {
-            if (s[u] != kKept || !(d[u] > 0.f) || !(ni[u] > 0.f) || yo[u] >= o.temporal_max_age) continue;
-            if (d[u] > 1.f / ni[u] - margin && d[u] < fa[u] + margin) {
+            const bool guarded = ni[u] > 0.f && yo[u] < o.temporal_max_age;
+            low[u] = guarded ? 1.f / ni[u] - margin : std::numeric_limits<float>::infinity();
+            high[u] = fa[u] + margin;
+          }
+        }
+        const cv::Rect full_area = cv::Rect(2 * area.x, 2 * area.y, 2 * area.width, 2 * area.height) &
+                                   cv::Rect(0, 0, size.width, size.height);
+        guarded_area = full_area;
+        for (int v = full_area.y; v < full_area.y + full_area.height; ++v) {
+          const float* d = depth.ptr<float>(v);
+          const float* low = guard_low_.ptr<float>(v / 2);
+          const float* high = guard_high_.ptr<float>(v / 2);
+          const uint8_t* yo = youngest_.ptr<uint8_t>(v / 2);
+          uint8_t* s = state.ptr<uint8_t>(v);
+          uint8_t* ag = age.ptr<uint8_t>(v);
+          for (int u = full_area.x; u < full_area.x + full_area.width; ++u) {
+            const int c = u / 2;
+            if (s[u] == kKept && d[u] > 0.f && d[u] > low[c] && d[u] < high[c]) {
               s[u] = kRemoved;
-              ag[u] = static_cast<uint8_t>(yo[u] + 1);
+              ag[u] = static_cast<uint8_t>(yo[c] + 1);
             }
           }
         }
@@ -489,26 +521,32 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   }
   if (o.temporal) {
     // Only people's pixels and pixels guarded for them carry over: ring outliers and geometric
-    // removals may be background, and carrying those would let the guard spread over it.
-    previous_depth_.create(size, CV_32F);
-    int u_min = size.width, v_min = size.height, u_max = -1, v_max = -1;
-    for (int v = 0; v < size.height; ++v) {
+    // removals may be background, and carrying those would let the guard spread over it. They
+    // lie in the people's areas and the guarded area; every second pixel and row is kept.
+    cv::Rect carried;
+    for (const cv::Rect& a : areas) carried |= a;
+    carried |= guarded_area;
+    previous_depth_.create(half, CV_32F);
+    previous_depth_.setTo(0);
+    previous_age_.create(half, CV_8U);
+    int u_min = half.width, v_min = half.height, u_max = -1, v_max = -1;
+    for (int v = carried.y + carried.y % 2; v < carried.y + carried.height; v += 2) {
       const float* d = depth.ptr<float>(v);
       const uint8_t* s = state.ptr<uint8_t>(v);
       const uint8_t* a = age.ptr<uint8_t>(v);
-      float* p = previous_depth_.ptr<float>(v);
-      for (int u = 0; u < size.width; ++u) {
-        p[u] = ((s[u] != kKept && s[u] != kRemoved) || a[u] > 0) ? d[u] : 0.f;
-        if (p[u] != 0.f) {
-          u_min = std::min(u_min, u);
-          u_max = std::max(u_max, u);
-          v_min = std::min(v_min, v);
-          v_max = std::max(v_max, v);
-        }
+      float* p = previous_depth_.ptr<float>(v / 2);
+      uint8_t* pa = previous_age_.ptr<uint8_t>(v / 2);
+      for (int u = carried.x + carried.x % 2; u < carried.x + carried.width; u += 2) {
+        if ((s[u] == kKept || s[u] == kRemoved) && a[u] == 0) continue;
+        p[u / 2] = d[u];
+        pa[u / 2] = a[u];  // zero (box-supported) except for temporally guarded pixels
+        u_min = std::min(u_min, u / 2);
+        u_max = std::max(u_max, u / 2);
+        v_min = std::min(v_min, v / 2);
+        v_max = std::max(v_max, v / 2);
       }
     }
     previous_bounds_ = u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
-    std::swap(previous_age_, age_);  // zero (box-supported) except for temporally guarded pixels
   }
   return result;
 }

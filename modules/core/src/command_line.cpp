@@ -1,5 +1,9 @@
 #include "pf2/core/command_line.h"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <cmath>
 #include <exception>
 #include <iostream>
@@ -80,7 +84,20 @@ std::vector<std::string> CommandLine::positionals() {
   return result;
 }
 
+void keepFreedImageMemory() {
+#if defined(__GLIBC__)
+  // glibc hands blocks above its mmap threshold (128 KB to 32 MB, adaptive) back to the kernel on
+  // free and trims the heap's top, so every new 640x480 image costs ~300-400 fresh page faults;
+  // in a virtual machine that measured ~4 ms per frame in the Dual-BBox filter alone (4x its
+  // compute, docs/BENCHMARKS.md). Serving them from the heap and never trimming it keeps the
+  // pages mapped for the next frame; peak memory is unchanged, it is just not returned early.
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
+}
+
 int runApp(const char* program, int (*body)(int, char**), int argc, char** argv) {
+  keepFreedImageMemory();
   try {
     return body(argc, argv);
   } catch (const std::exception& e) {

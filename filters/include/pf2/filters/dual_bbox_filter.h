@@ -179,8 +179,10 @@ class DualBBoxFilter {
   // Working images kept between calls: allocating them anew costs more than filling them.
   cv::Mat depth_, state_, outside_;
   cv::Mat age_, warped_, warped_age_, inverse_, nearest_inverse_, farthest_, age_or_max_, youngest_;
-  cv::Mat previous_depth_;  // depth of last frame's removed pixels, 0 elsewhere
-  cv::Mat previous_age_;    // CV_8U frames since a box last supported each removed pixel
+  cv::Mat guard_low_, guard_high_;  // temporal: depth range guarded per half-resolution cell
+  // Last frame's carried pixels at half resolution (every second pixel and row):
+  cv::Mat previous_depth_;  // CV_32F depth of the people's and guarded pixels, 0 elsewhere
+  cv::Mat previous_age_;    // CV_8U frames since a box last supported each (where depth > 0)
   cv::Rect previous_bounds_;  // bounds of previous_depth_'s non-zero pixels: the warp scans only these
 };
 

@@ -28,8 +28,13 @@ class CommandLine {
   std::vector<bool> used_;
 };
 
-// Runs body(); on pf2::Error or std::exception prints "<program>: error: <what>" to stderr and
+// Calls keepFreedImageMemory(), then runs body(); on pf2::Error or std::exception prints "<program>: error: <what>" to stderr and
 // returns 1. Apps return its result from main.
 int runApp(const char* program, int (*body)(int, char**), int argc, char** argv);
+
+// Makes freed large blocks (images) stay mapped for reuse instead of returning to the kernel, so a
+// per-frame pipeline does not page-fault on every new image. runApp calls it; benchmarks and other
+// long-running hosts may call it first thing too. Process-wide; call before starting threads.
+void keepFreedImageMemory();
 
 }  // namespace pf2
