@@ -104,6 +104,7 @@ int run(int argc, char** argv) {
               q.map_vertices ? 100.0 * q.ghost_vertices / q.map_vertices : 0.0);
   std::printf("completeness    %.2f %% of %zu seen ground-truth samples within 2 cm of the map\n",
               100.0 * q.completeness, q.seen_samples);
+  std::printf("%s", pf2::completenessBreakdown(q).c_str());
   std::printf("time            fuse %.1f ms per keyframe (Mapper::addKeyframe, incl. OctoMap), mesh %.0f ms, "
               "evaluation %.1f s\n", keyframes ? 1e3 * fuse_seconds / keyframes : 0.0, 1e3 * mesh_seconds,
               evaluate_seconds);

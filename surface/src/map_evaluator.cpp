@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "pf2/core/error.h"
 #include "pf2/core/stage_timer.h"
@@ -91,6 +93,21 @@ double MeshDistance::distance(const Eigen::Vector3d& p) const {
   return best;
 }
 
+std::string completenessBreakdown(const MapQuality& q) {
+  std::string text;
+  char line[128];
+  const auto add = [&](const char* what, const char* format, const std::vector<CompletenessBin>& bins) {
+    for (const CompletenessBin& b : bins) {
+      if (b.seen == 0) continue;
+      std::snprintf(line, sizeof(line), format, what, b.lower, b.upper, 100.0 * b.covered / b.seen, b.seen);
+      text += line;
+    }
+  };
+  add("nearest view", "  %s %.1f-%.1f m: %.1f %% of %zu seen samples\n", q.by_range);
+  add("incidence", "  %s %.0f-%.0f deg: %.1f %% of %zu seen samples\n", q.by_incidence);
+  return text;
+}
+
 MapEvaluator::MapEvaluator(const TriangleMesh& ground_truth, const Options& options)
     : options_(options), ground_truth_(ground_truth, options.max_distance, std::max(0.02, options.max_distance / 4)) {
   if (!(options_.sample_spacing > 0)) throw Error("MapEvaluator: sample_spacing must be positive");
@@ -100,16 +117,22 @@ MapEvaluator::MapEvaluator(const TriangleMesh& ground_truth, const Options& opti
                           b = ground_truth.vertices[t[1]].cast<double>(),
                           c = ground_truth.vertices[t[2]].cast<double>();
     const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const Eigen::Vector3f normal =
+        cross.norm() > 0 ? Eigen::Vector3f(cross.normalized().cast<float>()) : Eigen::Vector3f::Zero();
     const int n = std::max(1, static_cast<int>(std::ceil(longest / options_.sample_spacing)));
     // Interior points only (i, j >= 1 off the shared edges), so neighbours don't double-count edges.
     for (int i = 0; i < n; ++i) {
       for (int j = 0; i + j < n; ++j) {
         const double s = (i + 1.0 / 3.0) / n, r = (j + 1.0 / 3.0) / n;
         samples_.push_back(a + s * (b - a) + r * (c - a));
+        normals_.push_back(normal);
       }
     }
   }
   seen_.assign(samples_.size(), 0);
+  nearest_depth_.assign(samples_.size(), std::numeric_limits<float>::infinity());
+  best_cosine_.assign(samples_.size(), 0.f);
 }
 
 void MapEvaluator::markSeen(const cv::Mat& depth, const CameraIntrinsics& K, const Eigen::Isometry3d& T_w_c) {
@@ -117,19 +140,27 @@ void MapEvaluator::markSeen(const cv::Mat& depth, const CameraIntrinsics& K, con
     throw Error("MapEvaluator: depth must be CV_32F of the intrinsics' size");
   }
   const Eigen::Isometry3d T_c_w = T_w_c.inverse();
+  const Eigen::Vector3d centre_w = T_w_c.translation();
   for (std::size_t i = 0; i < samples_.size(); ++i) {
-    if (seen_[i]) continue;
     const Eigen::Vector3d p_c = T_c_w * samples_[i];
     if (p_c.z() <= 0.05) continue;
     const Eigen::Vector2d uv = K.project(p_c);
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
     if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
     const float d = depth.at<float>(v, u);
-    if (d > 0 && std::abs(d - p_c.z()) <= options_.seen_tolerance) seen_[i] = 1;
+    if (!(d > 0 && std::abs(d - p_c.z()) <= options_.seen_tolerance)) continue;
+    seen_[i] = 1;
+    nearest_depth_[i] = std::min(nearest_depth_[i], static_cast<float>(p_c.z()));
+    const float cosine = std::abs(normals_[i].dot((samples_[i] - centre_w).normalized().cast<float>()));
+    best_cosine_[i] = std::max(best_cosine_[i], cosine);
   }
 }
 
-void MapEvaluator::markAllSeen() { std::fill(seen_.begin(), seen_.end(), 1); }
+void MapEvaluator::markAllSeen() {
+  std::fill(seen_.begin(), seen_.end(), 1);
+  std::fill(nearest_depth_.begin(), nearest_depth_.end(), 0.f);
+  std::fill(best_cosine_.begin(), best_cosine_.end(), 1.f);
+}
 
 MapQuality MapEvaluator::evaluate(const TriangleMesh& map) const {
   MapQuality quality;
@@ -150,11 +181,27 @@ MapQuality MapEvaluator::evaluate(const TriangleMesh& map) const {
     quality.p90 = percentile(distances, 90);
   }
   const MeshDistance to_map(map, options_.completeness_distance * 1.5, 0.02);
+  constexpr double kRangeBin = 0.5, kAngleBin = 15.0;
+  const auto bin = [](std::vector<CompletenessBin>* bins, double value, double width) -> CompletenessBin& {
+    const std::size_t k = static_cast<std::size_t>(std::max(0.0, value / width));
+    while (bins->size() <= k) {
+      const double lower = bins->size() * width;
+      bins->push_back({lower, lower + width, 0, 0});
+    }
+    return (*bins)[k];
+  };
   std::size_t covered = 0;
   for (std::size_t i = 0; i < samples_.size(); ++i) {
     if (!seen_[i]) continue;
     ++quality.seen_samples;
-    covered += to_map.distance(samples_[i]) <= options_.completeness_distance;
+    const bool near = to_map.distance(samples_[i]) <= options_.completeness_distance;
+    covered += near;
+    const double angle = std::acos(std::min(1.f, best_cosine_[i])) * 180.0 / std::acos(-1.0);
+    for (CompletenessBin* b : {&bin(&quality.by_range, nearest_depth_[i], kRangeBin),
+                               &bin(&quality.by_incidence, std::min(angle, 89.999), kAngleBin)}) {
+      ++b->seen;
+      b->covered += near;
+    }
   }
   quality.completeness = quality.seen_samples ? static_cast<double>(covered) / quality.seen_samples : 0.0;
   return quality;

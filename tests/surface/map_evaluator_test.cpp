@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
+#include <string>
 
 #include "analytic_scene.h"
 #include "pf2/surface/tsdf_volume.h"
@@ -91,6 +93,70 @@ TEST(MapEvaluator, OnlySeenSurfaceCountsForCompleteness) {
   EXPECT_GT(q.completeness, 0.95);
   EXPECT_LT(q.mean, 0.002);
   EXPECT_EQ(q.ghost_vertices, 0u);
+}
+
+// Two 0.2 m square walls facing the camera, one at 2 m and one at 3.2 m; the map holds only the
+// near one. Every sample lands in the range bin of the depth it was first seen at, and a later,
+// farther view does not move it.
+TEST(MapEvaluator, CompletenessByRangeAndIncidence) {
+  const auto quad = [](TriangleMesh* mesh, float x0, float x1, float z) {
+    const int base = static_cast<int>(mesh->vertices.size());
+    mesh->vertices.emplace_back(x0, -0.1f, z);
+    mesh->vertices.emplace_back(x1, -0.1f, z);
+    mesh->vertices.emplace_back(x1, 0.1f, z);
+    mesh->vertices.emplace_back(x0, 0.1f, z);
+    mesh->triangles.emplace_back(base, base + 2, base + 1);
+    mesh->triangles.emplace_back(base, base + 3, base + 2);
+  };
+  TriangleMesh truth, map;
+  quad(&truth, -0.3f, -0.1f, 2.0f);
+  quad(&truth, 0.1f, 0.3f, 3.2f);
+  quad(&map, -0.3f, -0.1f, 2.0f);
+  MapEvaluator evaluator(truth, MapEvaluator::Options());
+  const std::size_t per_wall = evaluator.sampleCount() / 2;
+  ASSERT_EQ(evaluator.sampleCount(), 2 * per_wall);
+
+  // Depth of the two walls (each drawn 5 cm larger, so that no sample falls off its edge).
+  const CameraIntrinsics K;
+  const auto depth_from = [&](double camera_z) {
+    cv::Mat depth(K.height, K.width, CV_32F, cv::Scalar(0.f));
+    for (int v = 0; v < K.height; ++v) {
+      for (int u = 0; u < K.width; ++u) {
+        const double rx = (u - K.cx) / K.fx, ry = (v - K.cy) / K.fy;
+        for (const auto& [x0, x1, z] :
+             {std::array<double, 3>{-0.35, -0.05, 2.0}, std::array<double, 3>{0.05, 0.35, 3.2}}) {
+          const double d = z - camera_z;
+          if (rx * d >= x0 && rx * d <= x1 && std::abs(ry * d) <= 0.15) depth.at<float>(v, u) = static_cast<float>(d);
+        }
+      }
+    }
+    return depth;
+  };
+  evaluator.markSeen(depth_from(0.0), K, Eigen::Isometry3d::Identity());
+  Eigen::Isometry3d back = Eigen::Isometry3d::Identity();
+  back.translation().z() = -0.6;  // the far wall is now 3.8 m away, the near one 2.6 m
+  evaluator.markSeen(depth_from(-0.6), K, back);
+
+  const MapQuality q = evaluator.evaluate(map);
+  EXPECT_EQ(q.seen_samples, 2 * per_wall);
+  EXPECT_DOUBLE_EQ(q.completeness, 0.5);
+  // Bins of 0.5 m from 0: the near wall in [2.0, 2.5), the far one in [3.0, 3.5).
+  ASSERT_EQ(q.by_range.size(), 7u);
+  for (std::size_t k = 0; k < q.by_range.size(); ++k) {
+    EXPECT_DOUBLE_EQ(q.by_range[k].lower, 0.5 * k);
+    EXPECT_DOUBLE_EQ(q.by_range[k].upper, 0.5 * (k + 1));
+    const std::size_t seen = (k == 4 || k == 6) ? per_wall : 0;
+    EXPECT_EQ(q.by_range[k].seen, seen) << k;
+    EXPECT_EQ(q.by_range[k].covered, k == 4 ? per_wall : 0u) << k;
+  }
+  // Both walls face the camera within atan(0.32 / 2) = 9 degrees: all in the first 15 degree bin.
+  ASSERT_EQ(q.by_incidence.size(), 1u);
+  EXPECT_EQ(q.by_incidence[0].seen, 2 * per_wall);
+  EXPECT_EQ(q.by_incidence[0].covered, per_wall);
+  EXPECT_EQ(completenessBreakdown(q),
+            "  nearest view 2.0-2.5 m: 100.0 % of " + std::to_string(per_wall) + " seen samples\n" +
+            "  nearest view 3.0-3.5 m: 0.0 % of " + std::to_string(per_wall) + " seen samples\n" +
+            "  incidence 0-15 deg: 50.0 % of " + std::to_string(2 * per_wall) + " seen samples\n");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // Distances are exact point-to-triangle distances found through a uniform grid.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -38,13 +39,25 @@ class MeshDistance {
 double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& c);
 
+// Completeness of the seen samples in one bin of a breakdown.
+struct CompletenessBin {
+  double lower = 0.0, upper = 0.0;  // the bin's range of the breakdown's quantity
+  std::size_t seen = 0, covered = 0;
+};
+
 struct MapQuality {
   std::size_t map_vertices = 0;
   double mean = 0.0, median = 0.0, p90 = 0.0, max = 0.0;  // map vertex -> ground truth, metres (capped)
   std::size_t ghost_vertices = 0;  // map vertices farther than ghost_distance from the ground truth
   std::size_t seen_samples = 0;    // ground-truth surface samples the camera saw
   double completeness = 0.0;       // share of them within completeness_distance of the map
+  // Completeness by the nearest camera depth a sample was seen at (0.5 m bins), and by its most
+  // frontal view's incidence angle (between the ray and the surface normal; 15 degree bins).
+  std::vector<CompletenessBin> by_range, by_incidence;
 };
+
+// The breakdowns of q as text, one line per non-empty bin ("  nearest view 3.0-3.5 m: 77.6 % of N").
+std::string completenessBreakdown(const MapQuality& q);
 
 class MapEvaluator {
  public:
@@ -58,7 +71,8 @@ class MapEvaluator {
 
   MapEvaluator(const TriangleMesh& ground_truth, const Options& options);
   // Marks the samples a depth image (CV_32F metres) observed: in front of the camera, projecting
-  // into the image onto a pixel whose depth lies within seen_tolerance of the sample's. NOT thread safe.
+  // into the image onto a pixel whose depth lies within seen_tolerance of the sample's; keeps the
+  // nearest depth and the most frontal incidence each sample was seen at. NOT thread safe.
   void markSeen(const cv::Mat& depth, const CameraIntrinsics& K, const Eigen::Isometry3d& T_w_c);
   void markAllSeen();
   std::size_t sampleCount() const { return samples_.size(); }
@@ -70,7 +84,10 @@ class MapEvaluator {
   Options options_;
   MeshDistance ground_truth_;
   std::vector<Eigen::Vector3d> samples_;
+  std::vector<Eigen::Vector3f> normals_;   // unit normal of each sample's triangle (either side)
   std::vector<char> seen_;
+  std::vector<float> nearest_depth_;      // nearest camera depth the sample was seen at, metres
+  std::vector<float> best_cosine_;        // |cos| of its most frontal view's incidence angle
 };
 
 }  // namespace pf2
