@@ -32,10 +32,12 @@ echo "| --- | --- | --- | --- | --- | --- |"
 causes="--shrink 0.1 --shift 5"  # the paper's failure causes only: incomplete, misaligned boxes
 for spec in "${sequences[@]}"; do
   set -- $spec; s="$1"
+  row "gt shrunk+shifted, paper, plain histogram" "$s" $causes --surround-weight 0 --separate-occlusions 0
   row "gt shrunk+shifted, paper" "$s" $causes
   row "gt shrunk+shifted, + mask" "$s" $causes --gt-mask --use-mask
   row "gt shrunk+shifted, + temporal" "$s" $causes --temporal
   row "gt shrunk+shifted, + geometric" "$s" $causes --geometric
+  row "gt shrunk+shifted, all three" "$s" $causes --gt-mask --use-mask --temporal --geometric
 done
 for spec in "${sequences[@]}"; do
   set -- $spec; s="$1"

@@ -13,10 +13,23 @@ namespace {
 
 // Per-pixel decision while filtering.
 constexpr uint8_t kKept = 0;
-constexpr uint8_t kRemoved = 255;  // removed but not a person's (ring outlier, temporal, geometric)
+constexpr uint8_t kRemoved = 255;  // removed but not a person's (ring outlier, temporal guard)
 constexpr int kMaxPeople = 254;    // person t is stored as t + 1
 
-bool validDepth(float d) { return std::isfinite(d) && d > 0.f; }
+// An interval widened by a margin, as floats, for pixel loops: a copy in registers (stores through
+// uint8_t pointers would make the compiler reload a struct's fields on every pixel). Empty (never
+// contains) when the interval is not valid.
+struct DepthRange {
+  float low = std::numeric_limits<float>::infinity();
+  float high = -std::numeric_limits<float>::infinity();
+  DepthRange() = default;
+  DepthRange(const DepthInterval& interval, double margin) {
+    if (!interval.valid) return;
+    low = static_cast<float>(interval.min - margin);
+    high = static_cast<float>(interval.max + margin);
+  }
+  bool contains(float depth) const { return depth > low && depth < high; }
+};
 
 void sanitize(const cv::Mat& depth, cv::Mat& out) {
   out.create(depth.size(), CV_32F);
@@ -25,24 +38,27 @@ void sanitize(const cv::Mat& depth, cv::Mat& out) {
     float* o = out.ptr<float>(v);
     // Comparisons with NaN are false, so this also clears NaN; written branch-free to vectorise.
     constexpr float kInf = std::numeric_limits<float>::infinity();
-    for (int u = 0; u < depth.cols; ++u) o[u] = (in[u] > 0.f && in[u] < kInf) ? in[u] : 0.f;
+    for (int u = 0, u_end = depth.cols; u < u_end; ++u) o[u] = (in[u] > 0.f && in[u] < kInf) ? in[u] : 0.f;
   }
 }
 
-// The mask dilated by radius pixels (a disc), computed on the mask's bounding box only.
-cv::Mat dilated(const cv::Mat& mask, int radius) {
-  cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
+// The mask's pixels dilated by `radius` (a disc), as an image of `area`'s size: the mask's
+// bounding box grown by radius, clipped to the image. Empty (and area empty) for an empty mask.
+cv::Mat dilatedOnArea(const cv::Mat& mask, int radius, cv::Rect* area) {
   const cv::Rect bounds = cv::boundingRect(mask);
-  if (bounds.empty()) return out;
-  const int r = std::max(0, radius);
-  const cv::Rect area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
-                        cv::Rect(0, 0, mask.cols, mask.rows);
-  cv::Mat binary = mask(area) > 0;
-  if (r > 0) {
-    cv::dilate(binary, binary, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+  if (bounds.empty()) {
+    *area = cv::Rect();
+    return cv::Mat();
   }
-  binary.copyTo(out(area));
-  return out;
+  const int r = std::max(0, radius);
+  *area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
+          cv::Rect(0, 0, mask.cols, mask.rows);
+  cv::Mat binary = mask(*area) > 0;
+  if (r > 0) {
+    cv::dilate(binary, binary, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)),
+               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED, cv::Scalar(0));
+  }
+  return binary;
 }
 
 // Forward-warps depth (and a companion CV_8U image) into another view, nearest point wins. The
@@ -64,13 +80,13 @@ cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_sr
   // p_dst = z * (R (x_n, y_n, 1)) + t with x_n, y_n the normalised coordinates: the rotated ray is
   // a column term plus a row term, computed once per column and per row.
   std::vector<Eigen::Vector3f> column_ray(depth_src.cols);
-  for (int u = 0; u < depth_src.cols; ++u) column_ray[u] = R.col(0) * ((u - cx) / fx);
+  for (int u = 0, u_end = depth_src.cols; u < u_end; ++u) column_ray[u] = R.col(0) * ((u - cx) / fx);
   const int width = depth_src.cols, height = depth_src.rows;
   const cv::Rect area = source_area & cv::Rect(0, 0, width, height);
   for (int v = area.y; v < area.y + area.height; ++v) {
     const float* row = depth_src.ptr<float>(v);
     const Eigen::Vector3f row_ray = R.col(1) * ((v - cy) / fy) + R.col(2);
-    for (int u = area.x; u < area.x + area.width; ++u) {
+    for (int u = area.x, u_end = area.x + area.width; u < u_end; ++u) {
       const float z = row[u];
       if (!(z > 0.f)) continue;
       const Eigen::Vector3f p_dst = z * (column_ray[u] + row_ray) + t;
@@ -99,18 +115,20 @@ struct FilterBox {
   cv::Rect rect;      // the box
   cv::Rect ring;      // the box enlarged by lambda (Algorithm 1's background check)
   cv::Rect surround;  // the box enlarged by surround_scale (what the person stands against)
-  cv::Mat mask;       // dilated backend mask (use_mask), else empty
+  cv::Mat mask;       // dilated backend mask on mask_area (use_mask), else empty
+  cv::Rect mask_area;
 };
 
 // Share of rect's valid depths (every second pixel and row) inside interval +- margin.
 double shareInInterval(const cv::Mat& depth, const cv::Rect& rect, const DepthInterval& interval, float margin) {
   long inside = 0, valid = 0;
+  const DepthRange range(interval, margin);
   for (int v = rect.y; v < rect.y + rect.height; v += 2) {
     const float* d = depth.ptr<float>(v);
-    for (int u = rect.x; u < rect.x + rect.width; u += 2) {
+    for (int u = rect.x, u_end = rect.x + rect.width; u < u_end; u += 2) {
       if (!(d[u] > 0.f)) continue;
       ++valid;
-      if (interval.contains(d[u], margin)) ++inside;
+      if (range.contains(d[u])) ++inside;
     }
   }
   return valid > 0 ? static_cast<double>(inside) / valid : 0.0;
@@ -141,7 +159,8 @@ void findOccludedIntervals(const cv::Mat& depth, const std::vector<FilterBox>& b
       for (int v = r.y; v < r.y + r.height; ++v) {
         const float* d = depth.ptr<float>(v);
         uint8_t* m = others.ptr<uint8_t>(v);
-        for (int u = r.x; u < r.x + r.width; ++u) m[u] = theirs.contains(d[u], margin) ? 0 : 255;
+        const DepthRange found(theirs, margin);
+        for (int u = r.x, u_end = r.x + r.width; u < u_end; ++u) m[u] = found.contains(d[u]) ? 0 : 255;
       }
       (*second_intervals)[t] = principalInterval(depth, others, r, histogram, boxes[t].surround);
     }
@@ -247,18 +266,19 @@ DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const
 }
 
 cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
-  cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8U);
-  if (prediction_.empty()) return mask;
+  if (prediction_.empty()) return cv::Mat::zeros(depth.size(), CV_8U);
   if (prediction_.size() != depth.size() || prediction_.type() != CV_32F) {
     throw Error("PredictedDepthEvidence: prediction is not a CV_32F image of the depth's size");
   }
+  cv::Mat mask(depth.size(), CV_8U);
   const float margin = static_cast<float>(margin_);
   for (int v = 0; v < depth.rows; ++v) {
     const float* d = depth.ptr<float>(v);
     const float* p = prediction_.ptr<float>(v);
     uint8_t* m = mask.ptr<uint8_t>(v);
-    for (int u = 0; u < depth.cols; ++u) {
-      if (p[u] > 0.f && validDepth(d[u]) && d[u] < p[u] - margin) m[u] = 255;
+    // Bitwise & (no branches) so that it vectorises; NaN compares false, so it is never dynamic.
+    for (int u = 0, u_end = depth.cols; u < u_end; ++u) {
+      m[u] = static_cast<uint8_t>(-static_cast<int>((p[u] > 0.f) & (d[u] > 0.f) & (d[u] < p[u] - margin)));
     }
   }
   return mask;
@@ -306,9 +326,9 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     const PersonDetection& p = detections.people[i];
     if (!(p.score > o.min_confidence)) continue;
     FilterBox b{static_cast<int>(i), scaledBoxRect(p.box, 1.0, size), scaledBoxRect(p.box, o.box_scale, size),
-                scaledBoxRect(p.box, o.surround_scale, size), {}};
+                scaledBoxRect(p.box, o.surround_scale, size), {}, {}};
     if (o.use_mask && !p.mask.empty() && p.mask.size() == size && p.mask.type() == CV_8U) {
-      b.mask = dilated(p.mask, o.mask_dilation);
+      b.mask = dilatedOnArea(p.mask, o.mask_dilation, &b.mask_area);
     }
     if (b.rect.empty() && b.mask.empty()) continue;
     boxes.push_back(std::move(b));
@@ -346,40 +366,39 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   for (size_t t = 0; t < boxes.size(); ++t) {
     const FilterBox& b = boxes[t];
     const uint8_t label = static_cast<uint8_t>(t + 1);
-    const DepthInterval& h = intervals[t];
-    const DepthInterval& h2 = second_intervals[t];
+    const DepthRange h(intervals[t], human_margin), h2(second_intervals[t], human_margin);
     areas[t] = b.rect;
     for (int v = b.rect.y; v < b.rect.y + b.rect.height; ++v) {
       const float* d = depth.ptr<float>(v);
       uint8_t* s = state.ptr<uint8_t>(v);
-      for (int u = b.rect.x; u < b.rect.x + b.rect.width; ++u) {
-        if (s[u] == kKept && d[u] > 0.f && (h.contains(d[u], human_margin) || h2.contains(d[u], human_margin))) {
+      for (int u = b.rect.x, u_end = b.rect.x + b.rect.width; u < u_end; ++u) {
+        if (s[u] == kKept && d[u] > 0.f && (h.contains(d[u]) || h2.contains(d[u]))) {
           s[u] = label;
         }
       }
     }
     if (!b.mask.empty()) {
-      const cv::Rect bounds = cv::boundingRect(b.mask);
-      areas[t] |= bounds;
-      for (int v = bounds.y; v < bounds.y + bounds.height; ++v) {
-        const float* d = depth.ptr<float>(v);
+      const cv::Rect& a = b.mask_area;
+      areas[t] |= a;
+      for (int v = 0; v < a.height; ++v) {
+        const float* d = depth.ptr<float>(v + a.y) + a.x;
         const uint8_t* m = b.mask.ptr<uint8_t>(v);
-        uint8_t* s = state.ptr<uint8_t>(v);
-        for (int u = bounds.x; u < bounds.x + bounds.width; ++u) {
+        uint8_t* s = state.ptr<uint8_t>(v + a.y) + a.x;
+        for (int u = 0, u_end = a.width; u < u_end; ++u) {
           if (m[u] && s[u] == kKept && d[u] > 0.f) s[u] = label;
         }
       }
     }
   }
   // The ring between each box and its lambda-enlarged box: depth unlike the background is removed.
-  const float background_margin = static_cast<float>(o.background_margin);
+  const DepthRange background(result.background, o.background_margin);
   for (const FilterBox& b : boxes) {
     for (int v = b.ring.y; v < b.ring.y + b.ring.height; ++v) {
       const float* d = depth.ptr<float>(v);
       const uint8_t* out = outside.ptr<uint8_t>(v);
       uint8_t* s = state.ptr<uint8_t>(v);
-      for (int u = b.ring.x; u < b.ring.x + b.ring.width; ++u) {
-        if (s[u] == kKept && out[u] && d[u] > 0.f && !result.background.contains(d[u], background_margin)) {
+      for (int u = b.ring.x, u_end = b.ring.x + b.ring.width; u < u_end; ++u) {
+        if (s[u] == kKept && out[u] && d[u] > 0.f && !background.contains(d[u])) {
           s[u] = kRemoved;
         }
       }
@@ -412,7 +431,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
           const uint8_t* a = warped_age_.ptr<uint8_t>(v);
           float* inv = inverse_.ptr<float>(v);
           uint8_t* am = age_or_max_.ptr<uint8_t>(v);
-          for (int u = area.x; u < area.x + area.width; ++u) {
+          for (int u = area.x, u_end = area.x + area.width; u < u_end; ++u) {
             const bool moved = w[u] > 0.f;
             inv[u] = moved ? 1.f / w[u] : 0.f;
             am[u] = moved ? a[u] : 255;
@@ -436,7 +455,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
           const uint8_t* yo = youngest.ptr<uint8_t>(v);
           float* low = guard_low_.ptr<float>(v + area.y) + area.x;
           float* high = guard_high_.ptr<float>(v + area.y) + area.x;
-          for (int u = 0; u < area.width; ++u) {
+          for (int u = 0, u_end = area.width; u < u_end; ++u) {
             const bool guarded = ni[u] > 0.f && yo[u] < o.temporal_max_age;
             low[u] = guarded ? 1.f / ni[u] - margin : std::numeric_limits<float>::infinity();
             high[u] = fa[u] + margin;
@@ -452,7 +471,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
           const uint8_t* yo = youngest_.ptr<uint8_t>(v / 2);
           uint8_t* s = state.ptr<uint8_t>(v);
           uint8_t* ag = age.ptr<uint8_t>(v);
-          for (int u = full_area.x; u < full_area.x + full_area.width; ++u) {
+          for (int u = full_area.x, u_end = full_area.x + full_area.width; u < u_end; ++u) {
             const int c = u / 2;
             if (s[u] == kKept && d[u] > 0.f && d[u] > low[c] && d[u] < high[c]) {
               s[u] = kRemoved;
@@ -464,18 +483,13 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     }
   }
 
+  // Geometric addition: applied in the output pass. The pixels it removes keep their state
+  // (kept), so they are not carried to the next frame: they may be background.
+  cv::Mat dynamic;
   if (o.geometric && evidence_) {
-    const cv::Mat dynamic = evidence_->dynamicMask(depth);
+    dynamic = evidence_->dynamicMask(depth);
     if (dynamic.size() != size || dynamic.type() != CV_8U) {
       throw Error("DualBBoxFilter: DynamicEvidence returned a mask that is not CV_8U of the depth's size");
-    }
-    for (int v = 0; v < size.height; ++v) {
-      const float* d = depth.ptr<float>(v);
-      const uint8_t* m = dynamic.ptr<uint8_t>(v);
-      uint8_t* s = state.ptr<uint8_t>(v);
-      for (int u = 0; u < size.width; ++u) {
-        if (m[u] && s[u] == kKept && d[u] > 0.f) s[u] = kRemoved;
-      }
     }
   }
 
@@ -485,12 +499,21 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   for (int v = 0; v < size.height; ++v) {
     const float* d = depth.ptr<float>(v);
     const uint8_t* s = state.ptr<uint8_t>(v);
+    const uint8_t* dyn = dynamic.empty() ? nullptr : dynamic.ptr<uint8_t>(v);
     float* out = result.static_depth.ptr<float>(v);
     uint8_t* removed = result.removed.ptr<uint8_t>(v);
-    for (int u = 0; u < size.width; ++u) {
-      const bool kept = s[u] == kKept;
-      out[u] = kept ? d[u] : 0.f;
-      removed[u] = !kept && d[u] > 0.f ? 255 : 0;
+    if (dyn) {
+      for (int u = 0, u_end = size.width; u < u_end; ++u) {
+        const bool kept = s[u] == kKept && dyn[u] == 0;
+        out[u] = kept ? d[u] : 0.f;
+        removed[u] = !kept && d[u] > 0.f ? 255 : 0;
+      }
+    } else {
+      for (int u = 0, u_end = size.width; u < u_end; ++u) {
+        const bool kept = s[u] == kKept;
+        out[u] = kept ? d[u] : 0.f;
+        removed[u] = !kept && d[u] > 0.f ? 255 : 0;
+      }
     }
   }
   result.people.resize(boxes.size());
@@ -511,7 +534,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
       const uint8_t* s = state.ptr<uint8_t>(v + a.y) + a.x;
       uint8_t* m = p.mask.ptr<uint8_t>(v);
       float* pd = p.depth.ptr<float>(v);
-      for (int u = 0; u < a.width; ++u) {
+      for (int u = 0, u_end = a.width; u < u_end; ++u) {
         if (s[u] == label) {
           m[u] = 255;
           pd[u] = d[u];
@@ -536,7 +559,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
       const uint8_t* a = age.ptr<uint8_t>(v);
       float* p = previous_depth_.ptr<float>(v / 2);
       uint8_t* pa = previous_age_.ptr<uint8_t>(v / 2);
-      for (int u = carried.x + carried.x % 2; u < carried.x + carried.width; u += 2) {
+      for (int u = carried.x + carried.x % 2, u_end = carried.x + carried.width; u < u_end; u += 2) {
         if ((s[u] == kKept || s[u] == kRemoved) && a[u] == 0) continue;
         p[u / 2] = d[u];
         pa[u / 2] = a[u];  // zero (box-supported) except for temporally guarded pixels
