@@ -7,10 +7,10 @@
 //
 // "Seen" is a sample within 2 cm of the sensor's (noisy) depth at its pixel. Beyond ~2.5 m the
 // Kinect model's noise and disparity steps reach that tolerance, so surfaces a few cm behind the
-// visible one (undersides, backs of objects) also pass in some frames although no ray reached
-// them. --visible-only additionally requires the sample to be the first static surface on its
-// pixel's ray (the ground-truth mesh rendered at the ground-truth pose, people masked by
-// gt/masks): the rule pf2_surface_map_quality uses with its exact depth.
+// visible one also pass in some frames although no ray reached them. --visible-only additionally
+// requires the sample to be the first static surface on its pixel's ray (the ground-truth mesh
+// rendered at the ground-truth pose, people masked by gt/masks): the rule
+// pf2_surface_map_quality uses with its exact depth.
 //
 //   pf2_slam_map_eval SEQUENCE_DIR RUN_DIR [--every K] [--max-depth M] [--visible-only]
 #include <cstdio>
