@@ -5,14 +5,15 @@
 // (vertices > 3 cm from any static surface: people fused into the map) and completeness of the
 // static surface the camera saw (samples observed by every 10th ground-truth depth frame).
 //
-// "Seen" is a sample within 2 cm of the sensor's (noisy) depth at its pixel. Beyond ~2.5 m the
-// Kinect model's noise and disparity steps reach that tolerance, so surfaces a few cm behind the
-// visible one also pass in some frames although no ray reached them. --visible-only additionally
-// requires the sample to be the first static surface on its pixel's ray (the ground-truth mesh
-// rendered at the ground-truth pose, people masked by gt/masks): the rule
-// pf2_surface_map_quality uses with its exact depth.
+// "Seen" is a sample that is the first static surface on the ray of a pixel where the sensor
+// measured a depth within range and no person stands in front (the ground-truth mesh rendered at
+// the ground-truth pose, people masked by gt/masks): the rule pf2_surface_map_quality uses with its
+// exact depth. --noisy-depth-seen selects the older rule, a sample within 2 cm of the sensor's
+// noisy depth at its pixel: beyond ~2.5 m the Kinect model's noise and disparity steps reach that
+// tolerance, so surfaces a few cm behind the visible one (undersides and back faces of boards)
+// pass in some frames although no ray reached them; it over-counts what was seen.
 //
-//   pf2_slam_map_eval SEQUENCE_DIR RUN_DIR [--every K] [--max-depth M] [--visible-only]
+//   pf2_slam_map_eval SEQUENCE_DIR RUN_DIR [--every K] [--max-depth M] [--noisy-depth-seen]
 #include <cstdio>
 #include <iostream>
 
@@ -33,17 +34,18 @@ namespace {
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
   if (cli.helpRequested()) {
-    std::cout << "usage: pf2_slam_map_eval SEQUENCE_DIR RUN_DIR [--every K] [--max-depth M] [--visible-only]\n"
+    std::cout << "usage: pf2_slam_map_eval SEQUENCE_DIR RUN_DIR [--every K] [--max-depth M] [--noisy-depth-seen]\n"
                  "Scores RUN_DIR/map.ply (aligned by RUN_DIR/trajectory.txt) against\n"
-                 "SEQUENCE_DIR/gt/static_scene.ply. --visible-only: seen samples must also be the first\n"
-                 "static surface on their pixel's ray (needs SEQUENCE_DIR/gt/masks).\n";
+                 "SEQUENCE_DIR/gt/static_scene.ply. Seen samples are the first static surface on the ray\n"
+                 "of a pixel with depth in range and no person (needs SEQUENCE_DIR/gt/masks);\n"
+                 "--noisy-depth-seen: any sample within 2 cm of the noisy depth (the older rule).\n";
     return 0;
   }
   const int every = cli.integer("--every", 10);
   // The map fuses depth up to the TSDF's max_depth (3.5 m by default): surface seen only from
   // farther away cannot be in it and is not counted as missed.
   const double max_depth = cli.number("--max-depth", 3.5);
-  const bool visible_only = cli.flag("--visible-only");
+  const bool visible_only = !cli.flag("--noisy-depth-seen");
   const auto args = cli.positionals();
   if (args.size() != 2) throw pf2::Error("expected SEQUENCE_DIR and RUN_DIR (see -h)");
   const std::string& sequence_dir = args[0];
