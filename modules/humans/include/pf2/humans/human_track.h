@@ -1,0 +1,30 @@
+#pragma once
+// A person's trajectory (data object) and its file: `timestamp id x y z` lines, world frame,
+// metres, '#' comments (DESIGN.md). The same format holds pf2_synth's ground truth gt/people.txt.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace pf2 {
+
+struct HumanTrackPoint {
+  double timestamp = 0.0;                   // seconds
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();  // the person's centre, world frame, metres
+};
+
+struct HumanTrack {
+  int id = 0;                               // stable small integer, 1, 2, ... in order of appearance
+  std::vector<HumanTrackPoint> points;      // sorted by time, at most one per frame
+};
+
+// Writes all points, sorted by time then id, with full precision and a header comment;
+// atomically (temporary file + rename). Throws pf2::Error naming the path on failure.
+void writeHumanTracks(const std::string& path, const std::vector<HumanTrack>& tracks);
+
+// Reads a `timestamp id x y z` file (extra columns ignored; CRLF, blank and '#' lines tolerated).
+// Returns the tracks sorted by id, each track's points sorted by time. A malformed line (missing
+// or non-finite numbers, a negative id) throws pf2::Error "path:line: ...".
+std::vector<HumanTrack> readHumanTracks(const std::string& path);
+
+}  // namespace pf2

@@ -1,0 +1,81 @@
+#pragma once
+// HumanTracker: gives each frame's person centres (world frame, eq. 3) the ids of the people they
+// belong to, so that each person's centres form one trajectory (paper §III-B).
+//
+// Two associations, chosen in Options:
+//   kPaper     — the paper's heuristic: each centre takes the id of the closest centre of the
+//                previous frame (closest pairs first, each id once); a centre with no previous
+//                one left starts a new id. No memory beyond one frame: a person missed for a
+//                single frame comes back under a new id, and two people passing close to each
+//                other swap ids when each is nearer to where the other was.
+//   kPredicted — ours: each track predicts where its person is now from a constant velocity
+//                (measured over the last velocity_window seconds of the track); centres and
+//                tracks are matched by minimum total distance (Hungarian) within a gate that
+//                widens the longer a track has been unseen; tracks survive max_missed frames
+//                without a centre, so a person hidden for a moment keeps their id.
+// Unmatched centres start new tracks; ids are 1, 2, 3, ... in order of appearance, never reused.
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pf2/humans/human_track.h"
+
+namespace pf2 {
+
+class HumanTracker {
+ public:
+  enum class Association { kPaper, kPredicted };
+
+  struct Options {
+    Association association = Association::kPredicted;
+    // --- kPredicted only ---
+    double gate = 0.5;              // metres between a track's prediction and a centre it may take
+    double gate_growth = 1.0;       // metres per second unseen added to the gate (the person may
+                                    // have turned or stopped while hidden)
+    int max_missed = 30;            // frames a track lives without a centre (1 s at 30 Hz)
+    double velocity_window = 0.5;   // seconds of the track's past its velocity is measured over
+                                    // (longer: less noise from box jitter, slower to follow turns)
+    double max_speed = 2.5;         // m/s: the velocity is clamped to this (a walking person)
+  };
+
+  HumanTracker() : HumanTracker(Options()) {}
+  explicit HumanTracker(const Options& options);
+
+  // Associates the centres of one frame (world frame, metres) taken at `timestamp` (seconds,
+  // increasing from call to call). Returns the track id of each centre, in the same order. Call
+  // it for every frame, with no centres when nobody was seen or the frame has no pose, so that
+  // missed frames are counted. NOT thread safe.
+  std::vector<int> update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w);
+
+  // Every track started so far (finished ones too), in id order, with all its points. NOT thread
+  // safe against update().
+  const std::vector<HumanTrack>& tracks() const { return tracks_; }
+  // Number of tracks that may still take centres. NOT thread safe against update().
+  int liveTracks() const { return static_cast<int>(live_.size()); }
+
+  // Forgets all tracks; ids start again at 1. NOT thread safe.
+  void reset();
+
+  const Options& options() const { return options_; }
+
+ private:
+  struct Live {
+    size_t track;   // index into tracks_
+    int missed;     // consecutive frames without a centre
+  };
+  Eigen::Vector3d predict(const Live& live, double timestamp) const;
+  std::vector<int> associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const;
+  std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w) const;
+
+  Options options_;
+  std::vector<HumanTrack> tracks_;
+  std::vector<Live> live_;
+  int next_id_ = 1;
+};
+
+// "paper" | "predicted"; throws pf2::Error naming the unknown value.
+HumanTracker::Association humanAssociationFromName(const std::string& name);
+const char* toString(HumanTracker::Association association);
+
+}  // namespace pf2

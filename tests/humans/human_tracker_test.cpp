@@ -1,0 +1,107 @@
+#include "pf2/humans/human_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+namespace {
+
+constexpr double kRate = 30.0;
+
+HumanTracker::Options withAssociation(HumanTracker::Association association) {
+  HumanTracker::Options options;
+  options.association = association;
+  return options;
+}
+
+// Two people walking towards each other along world x at 1.2 m/s (4 cm per frame), 3 cm apart
+// sideways; they pass at x = 0 between frames 24 and 25. Returns, per frame, the id given to
+// person A and to person B.
+std::vector<std::pair<int, int>> trackCrossing(HumanTracker* tracker) {
+  std::vector<std::pair<int, int>> ids;
+  for (int i = 0; i < 50; ++i) {
+    const double x = -0.98 + 0.04 * i;
+    const std::vector<Eigen::Vector3d> centres{{x, 0.0, 1.0}, {-x, 0.03, 1.0}};
+    const std::vector<int> frame_ids = tracker->update(i / kRate, centres);
+    ids.emplace_back(frame_ids[0], frame_ids[1]);
+  }
+  return ids;
+}
+
+TEST(HumanTracker, ConstantVelocityKeepsIdsWherePeopleCross) {
+  HumanTracker tracker(withAssociation(HumanTracker::Association::kPredicted));
+  const auto ids = trackCrossing(&tracker);
+  for (const auto& [a, b] : ids) {
+    EXPECT_EQ(a, 1);
+    EXPECT_EQ(b, 2);
+  }
+  ASSERT_EQ(tracker.tracks().size(), 2u);
+  EXPECT_EQ(tracker.tracks()[0].points.size(), 50u);
+  EXPECT_DOUBLE_EQ(tracker.tracks()[0].points.back().p_w.x(), 0.98);
+}
+
+TEST(HumanTracker, PaperHeuristicSwapsIdsWherePeopleCross) {
+  HumanTracker tracker(withAssociation(HumanTracker::Association::kPaper));
+  const auto ids = trackCrossing(&tracker);
+  // Before passing, each is closest to where they were; at the pass (x = -0.02 -> +0.02) each
+  // new centre is 3 cm from where the other was and 4 cm from where it was itself: the ids swap.
+  for (int i = 0; i <= 24; ++i) EXPECT_EQ(ids[i], std::make_pair(1, 2)) << i;
+  for (int i = 25; i < 50; ++i) EXPECT_EQ(ids[i], std::make_pair(2, 1)) << i;
+  EXPECT_EQ(tracker.tracks().size(), 2u);
+}
+
+// One person walking along x, not detected in frames 10..14.
+std::vector<int> trackWithGap(HumanTracker* tracker) {
+  std::vector<int> ids;
+  for (int i = 0; i < 30; ++i) {
+    std::vector<Eigen::Vector3d> centres;
+    if (i < 10 || i >= 15) centres.push_back({0.04 * i, 0.0, 0.9});
+    const std::vector<int> frame_ids = tracker->update(i / kRate, centres);
+    if (!frame_ids.empty()) ids.push_back(frame_ids[0]);
+  }
+  return ids;
+}
+
+TEST(HumanTracker, MissedFramesKeepTheIdWithinMaxMissed) {
+  HumanTracker tracker(withAssociation(HumanTracker::Association::kPredicted));
+  const std::vector<int> ids = trackWithGap(&tracker);
+  ASSERT_EQ(ids.size(), 25u);
+  for (int id : ids) EXPECT_EQ(id, 1);
+  // The paper's heuristic remembers one frame only: a new id after the gap.
+  HumanTracker paper(withAssociation(HumanTracker::Association::kPaper));
+  const std::vector<int> paper_ids = trackWithGap(&paper);
+  EXPECT_EQ(paper_ids.front(), 1);
+  EXPECT_EQ(paper_ids.back(), 2);
+  EXPECT_EQ(paper.tracks().size(), 2u);
+  // A track unseen for longer than max_missed ends; its id is not reused.
+  HumanTracker::Options short_memory;
+  short_memory.max_missed = 3;
+  HumanTracker forgetful(short_memory);
+  const std::vector<int> forgetful_ids = trackWithGap(&forgetful);
+  EXPECT_EQ(forgetful_ids.back(), 2);
+  EXPECT_EQ(forgetful.liveTracks(), 1);
+}
+
+TEST(HumanTracker, GateStartsNewTracksForFarCentres) {
+  HumanTracker tracker;
+  EXPECT_EQ(tracker.update(0.0, {{0, 0, 1}}), std::vector<int>{1});
+  // 2 m away one frame later: beyond the 0.5 m (+ 1 m/s x 1/30 s) gate, so a new person.
+  EXPECT_EQ(tracker.update(1 / kRate, {{2, 0, 1}}), std::vector<int>{2});
+  // The first is still alive and takes a centre near it again; the second too.
+  EXPECT_EQ(tracker.update(2 / kRate, {{2.05, 0, 1}, {0.1, 0, 1}}), (std::vector<int>{2, 1}));
+  EXPECT_EQ(tracker.update(3 / kRate, {}), std::vector<int>{});
+  EXPECT_EQ(tracker.liveTracks(), 2);
+  tracker.reset();
+  EXPECT_EQ(tracker.update(4 / kRate, {{0, 0, 1}}), std::vector<int>{1});
+}
+
+TEST(HumanTracker, AssociationNames) {
+  EXPECT_EQ(humanAssociationFromName("paper"), HumanTracker::Association::kPaper);
+  EXPECT_EQ(humanAssociationFromName("predicted"), HumanTracker::Association::kPredicted);
+  EXPECT_STREQ(toString(HumanTracker::Association::kPaper), "paper");
+  EXPECT_THROW(humanAssociationFromName("nearest"), Error);
+}
+
+}  // namespace
+}  // namespace pf2
