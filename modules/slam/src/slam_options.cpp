@@ -1,5 +1,7 @@
 #include "pf2/slam/slam_options.h"
 
+#include "pf2/core/error.h"
+
 namespace pf2 {
 
 DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
@@ -51,6 +53,19 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   t.keyframes.max_translation = config.number("tracker.keyframe_translation", t.keyframes.max_translation);
   t.keyframes.max_rotation = config.number("tracker.keyframe_rotation", t.keyframes.max_rotation);
   t.asynchronous_backend = config.boolean("tracker.asynchronous_backend", t.asynchronous_backend);
+
+  HumanTracker::Options& h = o.humans;
+  o.track_humans = config.boolean("humans.track", o.track_humans);
+  try {
+    h.association = humanAssociationFromName(config.text("humans.association", toString(h.association)));
+  } catch (const Error& e) {
+    throw Error(std::string("config key humans.association: ") + e.what());
+  }
+  h.gate = config.number("humans.gate", h.gate);
+  h.gate_growth = config.number("humans.gate_growth", h.gate_growth);
+  h.max_missed = config.integer("humans.max_missed", h.max_missed);
+  h.velocity_window = config.number("humans.velocity_window", h.velocity_window);
+  h.max_speed = config.number("humans.max_speed", h.max_speed);
 
   Mapper::Options& m = o.mapper;
   o.build_map = config.boolean("map.build", o.build_map);

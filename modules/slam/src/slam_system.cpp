@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <deque>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -14,6 +15,8 @@
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
+#include "pf2/humans/human_position.h"
+#include "pf2/humans/human_tracker.h"
 #include "pf2/io/trajectory_io.h"
 
 namespace pf2 {
@@ -107,7 +110,39 @@ struct FrameRecord {
   bool has_pose;
   int keyframe_id;
   Eigen::Isometry3d T_k_c;
+  // The people's centres in this camera's frame (eq. 2) with their track ids: humans.txt is
+  // written at the end with the corrected pose, in the world frame of trajectory.txt.
+  std::vector<std::pair<int, Eigen::Vector3d>> people_c;
 };
+
+// Eq. 2 for each person the filter separated: box centre at the mean depth of their D_h^t.
+std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const CameraIntrinsics& K) {
+  std::vector<Eigen::Vector3d> centres_c;
+  for (const DualBBoxFilter::Person& person : filtered.people) {
+    const double d_m = meanDepth(person.depth);
+    if (d_m <= 0.0) continue;  // no depth of this person: no position
+    centres_c.push_back(humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr,
+                                            person.box.y_lr, d_m, K));
+  }
+  return centres_c;
+}
+
+// humans.txt from the final poses: p_w = T_w_c p_c (eq. 3) with T_w_c = T_w_k (corrected) T_k_c.
+void writeHumans(const std::string& path, const std::vector<FrameRecord>& records,
+                 const std::map<int, Eigen::Isometry3d>& keyframe_poses) {
+  std::map<int, HumanTrack> tracks;
+  for (const FrameRecord& record : records) {
+    if (!record.has_pose) continue;
+    const Eigen::Isometry3d T_w_c = keyframe_poses.at(record.keyframe_id) * record.T_k_c;
+    for (const auto& [id, p_c] : record.people_c) {
+      tracks[id].id = id;
+      tracks[id].points.push_back({record.timestamp, humanCentreInWorld(T_w_c, p_c)});
+    }
+  }
+  std::vector<HumanTrack> list;
+  for (auto& [id, track] : tracks) list.push_back(std::move(track));
+  writeHumanTracks(path, list);
+}
 
 std::unique_ptr<HumanDetector> makeDetector(const SlamOptions& options,
                                             const std::string& sequence_folder,
@@ -162,6 +197,8 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   DualBBoxFilter filter(options_.filter);
   Tracker tracker(options_.tracker);
   Mapper mapper(options_.mapper);
+  const bool track_humans = options_.track_humans && detector != nullptr;
+  HumanTracker humans(options_.humans);
 
   size_t frame_count = source.size();
   if (options_.max_frames > 0) frame_count = std::min<size_t>(frame_count, options_.max_frames);
@@ -230,6 +267,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
       ScopedStageTimer frame_timer(&stats_, "frame");
       Frame static_frame = frame;
       cv::Mat person_mask;
+      std::vector<Eigen::Vector3d> people_c;
       if (detector) {
         Detections detections;
         {
@@ -244,6 +282,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         DualBBoxFilter::Result filtered = filter.filter(frame.depth, detections, T_cur_prev);
         static_frame.depth = filtered.static_depth;
         person_mask = filtered.removed;
+        if (track_humans) people_c = personCentres(filtered, frame.intrinsics);
       }
       TrackResult result;
       {
@@ -251,7 +290,18 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         result = tracker.track(static_frame, person_mask);
       }
       FrameRecord record{frame.timestamp, result.status != TrackStatus::kLost, result.keyframe_id,
-                         Eigen::Isometry3d::Identity()};
+                         Eigen::Isometry3d::Identity(), {}};
+      if (track_humans) {
+        // Associated with this frame's pose as tracked now; a frame without a pose counts as
+        // one where nobody was seen, so the tracks age.
+        ScopedStageTimer timer(&stats_, "humans");
+        std::vector<Eigen::Vector3d> people_w;
+        if (record.has_pose) {
+          for (const Eigen::Vector3d& p_c : people_c) people_w.push_back(humanCentreInWorld(result.T_w_c, p_c));
+        }
+        const std::vector<int> ids = humans.update(frame.timestamp, people_w);
+        for (size_t k = 0; k < ids.size(); ++k) record.people_c.emplace_back(ids[k], people_c[k]);
+      }
       if (record.has_pose) {
         record.T_k_c = result.T_k_c;
         T_w_prevprev = T_w_prev;
@@ -271,7 +321,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
                               frame.intrinsics, result.T_w_c});
         }
       }
-      records.push_back(record);
+      records.push_back(std::move(record));
       ++summary.frames;
       if (options_.progress && (summary.frames % 30 == 0 || summary.frames == (int)frame_count)) {
         const double elapsed =
@@ -301,6 +351,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
     trajectory_.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
   }
   writeTrajectory(out_dir + "/trajectory.txt", trajectory_);
+  if (track_humans) writeHumans(out_dir + "/humans.txt", records, keyframe_poses);
   if (options_.build_map) {
     ScopedStageTimer timer(&stats_, "map_export");
     mapper.updateKeyframePoses(fusedPoses(keyframe_poses, fused_anchors));

@@ -6,6 +6,7 @@
 #include "pf2/core/config_file.h"
 #include "pf2/detection/detector_factory.h"
 #include "pf2/filters/dual_bbox_filter.h"
+#include "pf2/humans/human_tracker.h"
 #include "pf2/registration/tracker.h"
 #include "pf2/surface/mapper.h"
 
@@ -21,6 +22,10 @@ struct SlamOptions {
   DetectorOptions detection = defaultDetectionOptions();
   DualBBoxFilter::Options filter = defaultFilterOptions();
   Tracker::Options tracker;
+  // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
+  // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
+  bool track_humans = true;
+  HumanTracker::Options humans;
   // Bounded memory on long runs: the newest 300 keyframes stay re-integrable (about 100 MB of
   // stored images), TSDF blocks farther than 10 m from the camera are dropped (a room is never
   // cut; a long corridor is).

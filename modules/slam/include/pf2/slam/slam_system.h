@@ -1,11 +1,12 @@
 #pragma once
-// The pipeline of DESIGN.md: frames -> person detector -> Dual-BBox filter -> tracker -> mapper.
+// The pipeline of DESIGN.md: frames -> person detector -> Dual-BBox filter -> tracker -> mapper,
+// and the human tracker on the filter's people once the frame's pose is known.
 //
 // Threads: a loader decodes frames ahead; the calling thread runs detection, filtering and
-// tracking (the front end); the tracker's pose-graph back end (loop closure) runs in its own
-// thread; a mapper thread fuses keyframes into the TSDF/OctoMap and re-fuses them when the pose
-// graph moves them. Only the front end touches the detector, filter and tracker; only the mapper
-// thread touches the Mapper.
+// tracking (the front end), then associates the people's centres (microseconds); the tracker's
+// pose-graph back end (loop closure) runs in its own thread; a mapper thread fuses keyframes into
+// the TSDF/OctoMap and re-fuses them when the pose graph moves them. Only the front end touches the
+// detector, filter, tracker and human tracker; only the mapper thread touches the Mapper.
 #include <memory>
 #include <string>
 
@@ -36,6 +37,8 @@ class SlamSystem {
   //   trajectory.txt  TUM format, one line per frame that has a pose, loop-corrected (T_w_c)
   //   stats.json      frames, lost frames, per-stage median/p90 ms, end-to-end fps
   //   map.ply, map.bt, map.ot (and map.pcd on request) when the map is built
+  //   humans.txt      `timestamp id x y z` person centres (eq. 2-3) in trajectory.txt's world
+  //                   frame, when a detector ran and options.track_humans is set
   // sequence_folder (may be empty) is where a gt/ folder is looked for. Throws pf2::Error naming
   // the file on bad input; outputs are written atomically. NOT thread safe; call once.
   SlamRunSummary run(const FrameSource& source, const std::string& sequence_folder,
