@@ -1,0 +1,511 @@
+#include "pf2/body/body_fitter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <opencv2/core.hpp>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+const std::array<const char*, kCocoKeypointCount> kCocoKeypointNames = {
+    "nose",       "left_eye",   "right_eye",      "left_ear",       "right_ear",  "left_shoulder",
+    "right_shoulder", "left_elbow", "right_elbow", "left_wrist",    "right_wrist", "left_hip",
+    "right_hip",  "left_knee",  "right_knee",     "left_ankle",     "right_ankle"};
+
+const std::array<CocoJointLink, kCocoKeypointCount> kCocoToBodyJoint = {{
+    {15, 1.0},  // nose -> head
+    {-1, 0.0},  // left_eye
+    {-1, 0.0},  // right_eye
+    {15, 0.5},  // left_ear -> head
+    {15, 0.5},  // right_ear -> head
+    {16, 1.0},  // left_shoulder
+    {17, 1.0},  // right_shoulder
+    {18, 1.0},  // left_elbow
+    {19, 1.0},  // right_elbow
+    {20, 1.0},  // left_wrist
+    {21, 1.0},  // right_wrist
+    {1, 1.0},   // left_hip
+    {2, 1.0},   // right_hip
+    {4, 1.0},   // left_knee
+    {5, 1.0},   // right_knee
+    {7, 1.0},   // left_ankle
+    {8, 1.0},   // right_ankle
+}};
+
+namespace {
+
+constexpr int kShapes = BodyFitter::Options::kShapeCount;
+constexpr int kBodyPoseSize = 3 * (kBodyJointCount - 1);  // joints 1..23
+constexpr int kResiduals2d = 2 * kCocoKeypointCount;
+constexpr int kResidualsData = kResiduals2d + kCocoKeypointCount;  // 2D + depth per keypoint
+
+// How far below the visible surface each observed joint lies (m): roughly the radius of the body
+// part around it on the default body. The depth term compares the joint's z with the surface's.
+double jointDepthBelowSurface(int joint) {
+  switch (joint) {
+    case 15: return 0.09;            // head
+    case 1: case 2: return 0.09;     // hips (deep in the pelvis)
+    case 16: case 17: return 0.05;   // shoulders
+    case 18: case 19: return 0.04;   // elbows
+    case 20: case 21: return 0.03;   // wrists
+    case 4: case 5: return 0.05;     // knees
+    case 7: case 8: return 0.04;     // ankles
+    default: return 0.08;
+  }
+}
+
+// The pose the prior pulls towards and the fit starts from: standing, arms lowered 70° from the
+// T pose (zero pose would hold the arms straight out, which people rarely do).
+std::array<Eigen::Vector3d, kBodyJointCount> relaxedPose() {
+  std::array<Eigen::Vector3d, kBodyJointCount> pose;
+  for (auto& p : pose) p.setZero();
+  pose[16] = {0, 0, -1.2};  // left shoulder: the arm lowers with -z
+  pose[17] = {0, 0, 1.2};   // right shoulder: +z
+  return pose;
+}
+
+// Posed joints from (root axis-angle, translation, 23 joint axis-angles, shapes), as
+// BodyModel::evaluate computes them: G_j = G_parent * [R_j | J_j - J_parent], joint = G_j.t + t.
+template <typename T>
+void forwardKinematics(const Eigen::Matrix<double, 3 * kBodyJointCount, 1>& rest,
+                       const Eigen::Matrix<double, 3 * kBodyJointCount, kShapes>& shapedirs, const T* root,
+                       const T* translation, const T* body, const T* shape, T joints[kBodyJointCount][3]) {
+  T J[kBodyJointCount][3];
+  for (int i = 0; i < 3 * kBodyJointCount; ++i) {
+    T value = T(rest[i]);
+    for (int b = 0; b < kShapes; ++b) value += shapedirs(i, b) * shape[b];
+    J[i / 3][i % 3] = value;
+  }
+  T G_R[kBodyJointCount][9];  // row-major world rotation of each joint
+  for (int j = 0; j < kBodyJointCount; ++j) {
+    T R[9];
+    ceres::AngleAxisToRotationMatrix(j == 0 ? root : body + 3 * (j - 1), ceres::RowMajorAdapter3x3(R));
+    const int parent = kBodyJointParents[j];
+    if (parent < 0) {
+      std::copy(R, R + 9, G_R[j]);
+      for (int k = 0; k < 3; ++k) joints[j][k] = J[j][k];
+      continue;
+    }
+    const T* P = G_R[parent];
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) G_R[j][3 * r + c] = P[3 * r] * R[c] + P[3 * r + 1] * R[3 + c] + P[3 * r + 2] * R[6 + c];
+      joints[j][r] = joints[parent][r] + P[3 * r] * (J[j][0] - J[parent][0]) +
+                     P[3 * r + 1] * (J[j][1] - J[parent][1]) + P[3 * r + 2] * (J[j][2] - J[parent][2]);
+    }
+  }
+  for (int j = 0; j < kBodyJointCount; ++j) {
+    for (int k = 0; k < 3; ++k) joints[j][k] += translation[k];
+  }
+}
+
+// The data terms: reprojection of each linked keypoint (2 residuals) and its depth (1 residual),
+// computed from one forward kinematics per evaluation. Unused keypoints have weight 0.
+struct DataTerm {
+  struct Keypoint {
+    int joint = -1;
+    double u = 0, v = 0;
+    double weight_2d = 0;     // 0 = not used
+    double depth = 0;         // target z of the joint (surface + depth below it); used if weight_depth > 0
+    double weight_depth = 0;
+  };
+  const Eigen::Matrix<double, 3 * kBodyJointCount, 1>* rest;
+  const Eigen::Matrix<double, 3 * kBodyJointCount, kShapes>* shapedirs;
+  std::array<Keypoint, kCocoKeypointCount> keypoints;
+  double fx, fy, cx, cy, depth_delta;
+
+  template <typename T>
+  bool operator()(const T* root, const T* translation, const T* body, const T* shape, T* residuals) const {
+    using std::abs;
+    using std::sqrt;
+    T joints[kBodyJointCount][3];
+    forwardKinematics(*rest, *shapedirs, root, translation, body, shape, joints);
+    for (int k = 0; k < kCocoKeypointCount; ++k) {
+      const Keypoint& kp = keypoints[k];
+      residuals[2 * k] = residuals[2 * k + 1] = residuals[kResiduals2d + k] = T(0);
+      if (kp.joint < 0) continue;
+      const T* p = joints[kp.joint];
+      if (kp.weight_2d > 0) {
+        // A joint behind or at the camera would divide by ~0: clamp its depth; the other terms
+        // bring it back in front.
+        const T z = p[2] < T(0.05) ? T(0.05) : p[2];
+        residuals[2 * k] = kp.weight_2d * (fx * p[0] / z + cx - kp.u);
+        residuals[2 * k + 1] = kp.weight_2d * (fy * p[1] / z + cy - kp.v);
+      }
+      if (kp.weight_depth > 0) {
+        // Huber as a residual: 0.5 r^2 equals the Huber loss of the error e.
+        const T e = p[2] - kp.depth;
+        const T r = abs(e) <= T(depth_delta) ? e
+                                             : (e > T(0) ? T(1) : T(-1)) * sqrt(2.0 * depth_delta * abs(e) -
+                                                                               depth_delta * depth_delta);
+        residuals[kResiduals2d + k] = kp.weight_depth * r;
+      }
+    }
+    return true;
+  }
+};
+
+// Pose prior around the relaxed pose with per-joint scales, plus one-sided joint limits.
+constexpr int kLimitResiduals = 4;
+struct PosePrior {
+  std::array<double, kBodyPoseSize> mean;
+  std::array<double, kBodyPoseSize> scale;
+  double weight_limits;
+
+  template <typename T>
+  bool operator()(const T* body, T* residuals) const {
+    for (int i = 0; i < kBodyPoseSize; ++i) residuals[i] = scale[i] * (body[i] - mean[i]);
+    // Knees flex with +x only; the left elbow with -y, the right one with +y (forearm forward).
+    auto beyond = [](const T& excess) { return excess > T(0) ? excess : T(0); };
+    const T* left_knee = body + 3 * (4 - 1);
+    const T* right_knee = body + 3 * (5 - 1);
+    const T* left_elbow = body + 3 * (18 - 1);
+    const T* right_elbow = body + 3 * (19 - 1);
+    residuals[kBodyPoseSize + 0] = weight_limits * beyond(-left_knee[0]);
+    residuals[kBodyPoseSize + 1] = weight_limits * beyond(-right_knee[0]);
+    residuals[kBodyPoseSize + 2] = weight_limits * beyond(left_elbow[1]);
+    residuals[kBodyPoseSize + 3] = weight_limits * beyond(-right_elbow[1]);
+    return true;
+  }
+};
+
+struct ShapePrior {
+  double weight;
+  template <typename T>
+  bool operator()(const T* shape, T* residuals) const {
+    for (int b = 0; b < kShapes; ++b) residuals[b] = weight * shape[b];
+    return true;
+  }
+};
+
+struct TemporalTerm {
+  std::array<double, kBodyPoseSize> previous;
+  double weight;
+  template <typename T>
+  bool operator()(const T* body, T* residuals) const {
+    for (int i = 0; i < kBodyPoseSize; ++i) residuals[i] = weight * (body[i] - previous[i]);
+    return true;
+  }
+};
+
+bool usable(const BodyKeypoint& kp, double min_confidence) {
+  return std::isfinite(kp.u) && std::isfinite(kp.v) && std::isfinite(kp.confidence) &&
+         kp.confidence >= min_confidence;
+}
+
+double median(std::vector<double>* values) {
+  auto middle = values->begin() + values->size() / 2;
+  std::nth_element(values->begin(), middle, values->end());
+  return *middle;
+}
+
+// Rotation from the body frame (y up, facing +z, left +x) to the camera frame for a body standing
+// along up_c and facing `forward_c` (made orthogonal to up_c).
+Eigen::Matrix3d bodyRotation(const Eigen::Vector3d& up_c, const Eigen::Vector3d& forward_c) {
+  Eigen::Vector3d forward = forward_c - forward_c.dot(up_c) * up_c;
+  if (forward.norm() < 1e-6) forward = Eigen::Vector3d::UnitZ().cross(up_c);  // looking straight down
+  forward.normalize();
+  Eigen::Matrix3d R;
+  R.col(0) = up_c.cross(forward);  // left = up x forward
+  R.col(1) = up_c;
+  R.col(2) = forward;
+  return R;
+}
+
+}  // namespace
+
+BodyFitter::BodyFitter(const BodyModel& model, const Options& options) : model_(model), options_(options) {
+  const auto rest = model.restJoints(Eigen::VectorXd::Zero(kShapes));
+  for (int j = 0; j < kBodyJointCount; ++j) rest_joints_.segment<3>(3 * j) = rest[j];
+  for (int b = 0; b < kShapes; ++b) {
+    const auto moved = model.restJoints(Eigen::VectorXd::Unit(kShapes, b));
+    for (int j = 0; j < kBodyJointCount; ++j) joint_shapedirs_.block<3, 1>(3 * j, b) = moved[j] - rest[j];
+  }
+  const bool ok = options.min_confidence >= 0 && options.min_keypoints >= 1 && options.weight_2d > 0 &&
+                  options.weight_depth >= 0 && options.depth_delta > 0 && options.depth_radius_px > 0 &&
+                  options.weight_pose >= 0 && options.weight_limits >= 0 && options.weight_shape >= 0 &&
+                  options.weight_temporal >= 0 && options.stage1_iterations >= 0 && options.max_iterations >= 1;
+  if (!ok) throw Error("BodyFitter: an option is out of range (weights >= 0, iterations >= 1, radius > 0)");
+}
+
+std::array<Eigen::Vector3d, kBodyJointCount> BodyFitter::posedJoints(const BodyParameters& parameters) const {
+  std::array<double, kBodyPoseSize> body;
+  for (int j = 1; j < kBodyJointCount; ++j) {
+    for (int k = 0; k < 3; ++k) body[3 * (j - 1) + k] = parameters.pose[j][k];
+  }
+  std::array<double, kShapes> shape{};
+  for (int b = 0; b < std::min<int>(kShapes, parameters.shape.size()); ++b) shape[b] = parameters.shape[b];
+  double joints[kBodyJointCount][3];
+  forwardKinematics(rest_joints_, joint_shapedirs_, parameters.pose[0].data(), parameters.translation.data(),
+                    body.data(), shape.data(), joints);
+  std::array<Eigen::Vector3d, kBodyJointCount> out;
+  for (int j = 0; j < kBodyJointCount; ++j) out[j] = {joints[j][0], joints[j][1], joints[j][2]};
+  return out;
+}
+
+BodyFitResult BodyFitter::fit(const BodyFitInput& input, const CameraIntrinsics& K) const {
+  if (!(std::isfinite(K.fx) && std::isfinite(K.fy) && std::isfinite(K.cx) && std::isfinite(K.cy) && K.fx > 0 &&
+        K.fy > 0)) {
+    throw Error("BodyFitter: invalid intrinsics (focal lengths must be finite and positive)");
+  }
+  BodyFitResult result;
+  for (auto& j : result.joints_c) j.setZero();
+
+  // Usable keypoints.
+  std::array<bool, kCocoKeypointCount> use{};
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    use[k] = kCocoToBodyJoint[k].joint >= 0 && usable(input.keypoints[k], options_.min_confidence);
+    result.keypoints_used += use[k];
+  }
+  const bool shoulders = use[5] && use[6], hips = use[11] && use[12];
+  if (result.keypoints_used < options_.min_keypoints || !(shoulders || hips)) {
+    result.message = "too few keypoints (" + std::to_string(result.keypoints_used) + " usable, need " +
+                     std::to_string(options_.min_keypoints) + " with both shoulders or both hips)";
+    return result;
+  }
+
+  // The person's points: mean depth (eq. 2's d_m) and the surface depth around each keypoint.
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(input.points_c.size());
+  double depth_sum = 0;
+  for (const Eigen::Vector3d& p : input.points_c) {
+    if (p.allFinite() && p.z() > 0) {
+      points.push_back(p);
+      depth_sum += p.z();
+    }
+  }
+  const double mean_depth = points.empty() ? 0.0 : depth_sum / points.size();
+  std::array<double, kCocoKeypointCount> surface{};
+  if (options_.weight_depth > 0 && !points.empty()) {
+    std::array<std::vector<double>, kCocoKeypointCount> near;
+    const double r2 = options_.depth_radius_px * options_.depth_radius_px;
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Vector2d px = K.project(p);
+      for (int k = 0; k < kCocoKeypointCount; ++k) {
+        if (!use[k]) continue;
+        const double du = px.x() - input.keypoints[k].u, dv = px.y() - input.keypoints[k].v;
+        if (du * du + dv * dv <= r2) near[k].push_back(p.z());
+      }
+    }
+    for (int k = 0; k < kCocoKeypointCount; ++k) {
+      if (!near[k].empty()) {
+        surface[k] = median(&near[k]);
+        ++result.depth_keypoints;
+      }
+    }
+  }
+
+  // Parameters: root axis-angle, translation, joints 1..23, shape.
+  std::array<double, 3> root{};
+  std::array<double, 3> translation{};
+  std::array<double, kBodyPoseSize> body{};
+  std::array<double, kShapes> shape{};
+  const std::array<Eigen::Vector3d, kBodyJointCount> relaxed = relaxedPose();
+  std::array<double, kBodyPoseSize> relaxed_body{};
+  for (int j = 1; j < kBodyJointCount; ++j) {
+    for (int k = 0; k < 3; ++k) relaxed_body[3 * (j - 1) + k] = relaxed[j][k];
+  }
+
+  const auto& kp = input.keypoints;
+  if (input.previous != nullptr) {
+    // Temporal warm start: the previous fit as it was.
+    const BodyParameters& prev = *input.previous;
+    for (int k = 0; k < 3; ++k) root[k] = prev.pose[0][k], translation[k] = prev.translation[k];
+    for (int j = 1; j < kBodyJointCount; ++j) {
+      for (int k = 0; k < 3; ++k) body[3 * (j - 1) + k] = prev.pose[j][k];
+    }
+    for (int b = 0; b < std::min<int>(kShapes, prev.shape.size()); ++b) shape[b] = prev.shape[b];
+    bool finite = true;
+    for (double v : root) finite = finite && std::isfinite(v);
+    for (double v : translation) finite = finite && std::isfinite(v);
+    for (double v : body) finite = finite && std::isfinite(v);
+    for (double v : shape) finite = finite && std::isfinite(v);
+    if (!finite) {
+      result.message = "previous fit is not finite";
+      return result;
+    }
+  } else {
+    body = relaxed_body;
+    // Orientation: upright along up_c (the paper's R_x(180°) when unknown), facing the camera or
+    // away from it depending on which side the person's left keypoints appear. With depth at both
+    // shoulders or both hips, the lifted left-right vector gives the yaw itself.
+    Eigen::Vector3d up_c = input.up_c;
+    up_c = up_c.allFinite() && up_c.norm() > 1e-6 ? Eigen::Vector3d(up_c.normalized()) : Eigen::Vector3d(0, -1, 0);
+    Eigen::Vector3d across_c = Eigen::Vector3d::Zero();  // right -> left, camera frame
+    double left_minus_right_u = 0;
+    for (const auto& [l, r] : {std::pair<int, int>{5, 6}, std::pair<int, int>{11, 12}}) {
+      if (!(use[l] && use[r])) continue;
+      left_minus_right_u += kp[l].u - kp[r].u;
+      if (surface[l] > 0 && surface[r] > 0) {
+        across_c += K.backProject(kp[l].u, kp[l].v, surface[l]) - K.backProject(kp[r].u, kp[r].v, surface[r]);
+      }
+    }
+    // Facing the camera, the body's left (+x) appears on the image's right.
+    const Eigen::Vector3d toward_camera(0, 0, -1);
+    Eigen::Vector3d forward_c = left_minus_right_u >= 0 ? toward_camera : Eigen::Vector3d(-toward_camera);
+    across_c -= across_c.dot(up_c) * up_c;
+    if (across_c.norm() > 0.1) forward_c = across_c.normalized().cross(up_c);  // forward = left x up
+    const Eigen::AngleAxisd aa(bodyRotation(up_c, forward_c));
+    const Eigen::Vector3d root_aa = aa.angle() * aa.axis();
+    for (int k = 0; k < 3; ++k) root[k] = root_aa[k];
+
+    // Position (eq. 2): the pelvis at the hips' midpoint (else the centre of the keypoints' box)
+    // at the mean depth d_m of the person's points plus the pelvis' depth below the surface.
+    // Without depth, the distance at which the body's rest torso (shoulders to hips) has the length
+    // seen in the image.
+    double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+    for (int k = 0; k < kCocoKeypointCount; ++k) {
+      if (!use[k]) continue;
+      u0 = std::min(u0, kp[k].u), u1 = std::max(u1, kp[k].u);
+      v0 = std::min(v0, kp[k].v), v1 = std::max(v1, kp[k].v);
+    }
+    Eigen::Vector2d pelvis_px = hips ? Eigen::Vector2d(0.5 * (kp[11].u + kp[12].u), 0.5 * (kp[11].v + kp[12].v))
+                                     : Eigen::Vector2d(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    double z = mean_depth > 0 ? mean_depth + jointDepthBelowSurface(1) : 0.0;
+    if (z <= 0) {
+      const Eigen::Vector3d rest_torso = 0.5 * (rest_joints_.segment<3>(3 * 16) + rest_joints_.segment<3>(3 * 17)) -
+                                         0.5 * (rest_joints_.segment<3>(3 * 1) + rest_joints_.segment<3>(3 * 2));
+      if (shoulders && hips) {
+        const double torso_px = std::hypot(0.5 * (kp[5].u + kp[6].u - kp[11].u - kp[12].u),
+                                           0.5 * (kp[5].v + kp[6].v - kp[11].v - kp[12].v));
+        z = K.fy * rest_torso.norm() / std::max(torso_px, 1.0);
+      } else {
+        // One pair only: its width against the body's rest width.
+        const int l = shoulders ? 5 : 11, r = shoulders ? 6 : 12;
+        const double width = (rest_joints_.segment<3>(3 * kCocoToBodyJoint[l].joint) -
+                              rest_joints_.segment<3>(3 * kCocoToBodyJoint[r].joint)).norm();
+        z = K.fx * width / std::max(std::hypot(kp[l].u - kp[r].u, kp[l].v - kp[r].v), 1.0);
+      }
+      z = std::min(std::max(z, 0.3), 20.0);
+    }
+    const Eigen::Vector3d pelvis_c = K.backProject(pelvis_px.x(), pelvis_px.y(), z);
+    for (int k = 0; k < 3; ++k) translation[k] = pelvis_c[k] - rest_joints_[k];
+  }
+
+  // The data term with this person's keypoints; `torso_only` keeps head, shoulders and hips (the
+  // first stage, where arms and legs are still at their initial pose).
+  auto makeData = [&](bool torso_only) {
+    auto* term = new DataTerm{&rest_joints_, &joint_shapedirs_, {}, K.fx, K.fy, K.cx, K.cy, options_.depth_delta};
+    for (int k = 0; k < kCocoKeypointCount; ++k) {
+      if (!use[k]) continue;
+      const int joint = kCocoToBodyJoint[k].joint;
+      if (torso_only && !(joint == 15 || joint == 16 || joint == 17 || joint == 1 || joint == 2)) continue;
+      DataTerm::Keypoint& t = term->keypoints[k];
+      t.joint = joint;
+      t.u = kp[k].u;
+      t.v = kp[k].v;
+      t.weight_2d = options_.weight_2d * std::sqrt(std::min(1.0, kp[k].confidence) * kCocoToBodyJoint[k].weight);
+      if (surface[k] > 0) {
+        t.depth = surface[k] + jointDepthBelowSurface(joint);
+        t.weight_depth = options_.weight_depth * std::sqrt(kCocoToBodyJoint[k].weight);
+      }
+    }
+    return new ceres::AutoDiffCostFunction<DataTerm, kResidualsData, 3, 3, kBodyPoseSize, kShapes>(term);
+  };
+
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.logging_type = ceres::SILENT;
+  solver.num_threads = 1;
+
+  // Stage 1: root only (rotation and translation) on the torso keypoints.
+  if (options_.stage1_iterations > 0 && input.previous == nullptr) {
+    ceres::Problem problem;
+    problem.AddResidualBlock(makeData(true), nullptr, root.data(), translation.data(), body.data(), shape.data());
+    problem.SetParameterBlockConstant(body.data());
+    problem.SetParameterBlockConstant(shape.data());
+    solver.max_num_iterations = options_.stage1_iterations;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    result.iterations += static_cast<int>(summary.iterations.size()) - 1;
+  }
+
+  // Stage 2: everything, with the priors.
+  ceres::Problem problem;
+  problem.AddResidualBlock(makeData(false), nullptr, root.data(), translation.data(), body.data(), shape.data());
+  if (options_.weight_pose > 0 || options_.weight_limits > 0) {
+    auto* prior = new PosePrior{relaxed_body, {}, options_.weight_limits};
+    for (int j = 1; j < kBodyJointCount; ++j) {
+      // Joints no COCO keypoint observes (spine, neck, collars, feet, hands) are held closer.
+      const bool unseen = j == 3 || j == 6 || j == 9 || j == 12 || j == 13 || j == 14 || j == 10 || j == 11 ||
+                          j == 22 || j == 23;
+      for (int k = 0; k < 3; ++k) prior->scale[3 * (j - 1) + k] = options_.weight_pose * (unseen ? 3.0 : 1.0);
+    }
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<PosePrior, kBodyPoseSize + kLimitResiduals, kBodyPoseSize>(prior), nullptr,
+        body.data());
+  }
+  if (options_.weight_shape > 0) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ShapePrior, kShapes, kShapes>(
+                                 new ShapePrior{options_.weight_shape}),
+                             nullptr, shape.data());
+  }
+  if (input.previous != nullptr && options_.weight_temporal > 0) {
+    auto* temporal = new TemporalTerm{body, options_.weight_temporal};
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TemporalTerm, kBodyPoseSize, kBodyPoseSize>(temporal),
+                             nullptr, body.data());
+  }
+  if (!options_.fit_shape) problem.SetParameterBlockConstant(shape.data());
+  solver.max_num_iterations = options_.max_iterations;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  result.iterations += static_cast<int>(summary.iterations.size()) - 1;
+  result.initial_cost = summary.initial_cost;
+  result.cost = summary.final_cost;
+
+  for (int k = 0; k < 3; ++k) result.parameters.pose[0][k] = root[k], result.parameters.translation[k] = translation[k];
+  for (int j = 1; j < kBodyJointCount; ++j) {
+    for (int k = 0; k < 3; ++k) result.parameters.pose[j][k] = body[3 * (j - 1) + k];
+  }
+  result.parameters.shape = Eigen::Map<const Eigen::VectorXd>(shape.data(), kShapes);
+  result.joints_c = posedJoints(result.parameters);
+  bool finite = std::isfinite(result.cost);
+  for (const auto& j : result.joints_c) finite = finite && j.allFinite();
+  if (summary.termination_type == ceres::FAILURE || !finite) {
+    result.message = "solver failed: " + summary.message;
+    return result;
+  }
+  result.valid = true;
+  return result;
+}
+
+std::vector<Eigen::Vector3d> depthPointsFromImage(const cv::Mat& depth, const CameraIntrinsics& intrinsics,
+                                                  int stride) {
+  if (depth.type() != CV_32FC1) throw Error("depthPointsFromImage: depth must be CV_32F (metres)");
+  if (stride < 1) throw Error("depthPointsFromImage: stride must be >= 1");
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 0; v < depth.rows; v += stride) {
+    const float* row = depth.ptr<float>(v);
+    for (int u = 0; u < depth.cols; u += stride) {
+      const float z = row[u];
+      if (std::isfinite(z) && z > 0) points.push_back(intrinsics.backProject(u, v, z));
+    }
+  }
+  return points;
+}
+
+Eigen::Isometry3d humanToWorld(const Eigen::Isometry3d& T_w_c, const Eigen::Vector3d& p_w) {
+  Eigen::Isometry3d T_w_h = Eigen::Isometry3d::Identity();
+  T_w_h.linear() = T_w_c.linear() * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  T_w_h.translation() = p_w;
+  return T_w_h;
+}
+
+BodyParameters bodyToWorld(const BodyParameters& body_c, const Eigen::Isometry3d& T_w_c,
+                           const Eigen::Vector3d& rest_pelvis) {
+  // A posed point is R_0 (x - J_0) + J_0 + t; in the world R_w_c R_0 (x - J_0) + R_w_c (J_0 + t) + t_w_c.
+  BodyParameters body_w = body_c;
+  const double angle = body_c.pose[0].norm();
+  const Eigen::Matrix3d R_0 = angle > 1e-12 ? Eigen::AngleAxisd(angle, body_c.pose[0] / angle).toRotationMatrix()
+                                            : Eigen::Matrix3d::Identity();
+  const Eigen::AngleAxisd root_w(T_w_c.linear() * R_0);
+  body_w.pose[0] = root_w.angle() * root_w.axis();
+  body_w.translation = T_w_c.linear() * (rest_pelvis + body_c.translation) + T_w_c.translation() - rest_pelvis;
+  return body_w;
+}
+
+}  // namespace pf2
