@@ -5,6 +5,8 @@
 // in view) with a visible fraction of at least --min-visible, within the run's time span.
 #include <cstdio>
 #include <iostream>
+#include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -14,16 +16,33 @@
 #include "pf2/core/text_lines.h"
 #include "pf2/eval/human_metrics.h"
 #include "pf2/humans/human_track.h"
+#include "pf2/humans/human_tracker.h"
 #include "pf2/io/trajectory_io.h"
 
 namespace {
 
 const char* kUsage =
     "Usage: pf2_humans_eval SEQUENCE_DIR RUN_DIR [--match-distance M] [--min-visible F] [--json]\n"
+    "                       [--reassociate paper|predicted [--gate G] [--max-missed N]]\n"
     "Scores RUN_DIR/humans.txt (world frame of RUN_DIR/trajectory.txt) against\n"
     "SEQUENCE_DIR/gt/people.txt: per-frame optimal matching within M metres (default 0.5),\n"
     "position error, identity switches, fragmentations and recall of the person-frames in view\n"
-    "(gt/boxes.txt, visible fraction >= F, default 0).\n";
+    "(gt/boxes.txt, visible fraction >= F, default 0). --reassociate drops the run's ids and\n"
+    "associates its centres again with HumanTracker (same centres, other association options).\n";
+
+// The run's centres given new ids by a HumanTracker, frame by frame (every frame of the run,
+// so frames without a centre age the tracks as they do in pf2_slam).
+std::vector<pf2::HumanTrack> reassociate(const std::vector<pf2::HumanTrack>& tracks, const pf2::Trajectory& run,
+                                         const pf2::HumanTracker::Options& options) {
+  std::map<double, std::vector<Eigen::Vector3d>> centres_at;
+  for (const pf2::StampedPose& pose : run) centres_at[pose.timestamp];
+  for (const pf2::HumanTrack& track : tracks) {
+    for (const pf2::HumanTrackPoint& point : track.points) centres_at[point.timestamp].push_back(point.p_w);
+  }
+  pf2::HumanTracker tracker(options);
+  for (const auto& [stamp, centres] : centres_at) tracker.update(stamp, centres);
+  return tracker.tracks();
+}
 
 // (timestamp, id) of each person in view, from gt/boxes.txt.
 std::set<std::pair<double, int>> peopleInView(const std::string& path, double min_visible) {
@@ -55,6 +74,11 @@ int run(int argc, char** argv) {
   options.match_distance = cli.number("--match-distance", options.match_distance);
   const double min_visible = cli.number("--min-visible", 0.0);
   const bool json = cli.flag("--json");
+  const std::optional<std::string> association = cli.value("--reassociate");
+  pf2::HumanTracker::Options tracker_options;
+  tracker_options.gate = cli.number("--gate", tracker_options.gate);
+  tracker_options.max_missed = cli.integer("--max-missed", tracker_options.max_missed);
+  if (association) tracker_options.association = pf2::humanAssociationFromName(*association);
   const auto positionals = cli.positionals();
   if (positionals.size() != 2) throw pf2::Error("expected SEQUENCE_DIR and RUN_DIR (see -h)");
   const std::string sequence = positionals[0], run_dir = positionals[1];
@@ -69,6 +93,7 @@ int run(int argc, char** argv) {
   const Eigen::Isometry3d T_gt_est = T_gt_first * estimate.front().T_w_c.inverse();
 
   std::vector<pf2::HumanTrack> tracks = pf2::readHumanTracks(run_dir + "/humans.txt");
+  if (association) tracks = reassociate(tracks, estimate, tracker_options);
   for (pf2::HumanTrack& track : tracks) {
     for (pf2::HumanTrackPoint& point : track.points) point.p_w = T_gt_est * point.p_w;
   }

@@ -86,7 +86,7 @@ TEST(HumanTracker, MissedFramesKeepTheIdWithinMaxMissed) {
 TEST(HumanTracker, GateStartsNewTracksForFarCentres) {
   HumanTracker tracker;
   EXPECT_EQ(tracker.update(0.0, {{0, 0, 1}}), std::vector<int>{1});
-  // 2 m away one frame later: beyond the 0.5 m (+ 1 m/s x 1/30 s) gate, so a new person.
+  // 2 m away one frame later: beyond the 1 m (+ 1 m/s x 1/30 s) gate, so a new person.
   EXPECT_EQ(tracker.update(1 / kRate, {{2, 0, 1}}), std::vector<int>{2});
   // The first is still alive and takes a centre near it again; the second too.
   EXPECT_EQ(tracker.update(2 / kRate, {{2.05, 0, 1}, {0.1, 0, 1}}), (std::vector<int>{2, 1}));

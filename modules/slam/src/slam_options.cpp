@@ -56,6 +56,8 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
 
   HumanTracker::Options& h = o.humans;
   o.track_humans = config.boolean("humans.track", o.track_humans);
+  o.human_depth_in_interval = config.boolean("humans.depth_in_interval", o.human_depth_in_interval);
+  o.human_min_area = config.number("humans.min_area", o.human_min_area);
   try {
     h.association = humanAssociationFromName(config.text("humans.association", toString(h.association)));
   } catch (const Error& e) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <deque>
 #include <exception>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -115,12 +116,20 @@ struct FrameRecord {
   std::vector<std::pair<int, Eigen::Vector3d>> people_c;
 };
 
-// Eq. 2 for each person the filter separated: box centre at the mean depth of their D_h^t.
-std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const CameraIntrinsics& K) {
+// Eq. 2 for each person the filter separated: box centre at the mean depth of their D_h^t (with
+// in_interval, of its depths inside the person's interval widened by `margin`); people whose
+// depths cover less than min_area of the image get none.
+std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const CameraIntrinsics& K,
+                                           bool in_interval, double margin, double min_area) {
+  const double min_pixels = min_area * filtered.static_depth.total();
   std::vector<Eigen::Vector3d> centres_c;
   for (const DualBBoxFilter::Person& person : filtered.people) {
-    const double d_m = meanDepth(person.depth);
-    if (d_m <= 0.0) continue;  // no depth of this person: no position
+    const bool use_interval = in_interval && person.interval.valid;
+    long pixels = 0;
+    const double d_m = meanDepth(person.depth, use_interval ? person.interval.min - margin : 0.0,
+                                 use_interval ? person.interval.max + margin : std::numeric_limits<double>::infinity(),
+                                 &pixels);
+    if (pixels == 0 || pixels < min_pixels) continue;
     centres_c.push_back(humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr,
                                             person.box.y_lr, d_m, K));
   }
@@ -282,7 +291,10 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         DualBBoxFilter::Result filtered = filter.filter(frame.depth, detections, T_cur_prev);
         static_frame.depth = filtered.static_depth;
         person_mask = filtered.removed;
-        if (track_humans) people_c = personCentres(filtered, frame.intrinsics);
+        if (track_humans) {
+          people_c = personCentres(filtered, frame.intrinsics, options_.human_depth_in_interval,
+                                   options_.filter.human_margin, options_.human_min_area);
+        }
       }
       TrackResult result;
       {

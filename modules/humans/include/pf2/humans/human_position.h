@@ -12,6 +12,10 @@ namespace pf2 {
 // Mean of the measured depths (finite, > 0) of a CV_32F image in metres; 0 when there is none.
 // Throws pf2::Error for another image type. Thread safe.
 double meanDepth(const cv::Mat& depth);
+// The same over the depths inside (min_depth, max_depth) only, e.g. the person's principal depth
+// interval: pixels a dilated mask or box took from a person in front or the wall behind stay out.
+// `count` (optional) receives the number of depths averaged.
+double meanDepth(const cv::Mat& depth, double min_depth, double max_depth, long* count = nullptr);
 
 // Eq. 2: p_c = ((x_ul + x_lr - 2 c_x) / (2 f_x) d_m, (y_ul + y_lr - 2 c_y) / (2 f_y) d_m, d_m) for
 // the box corners (x_ul, y_ul), (x_lr, y_lr) in pixels and the mean depth d_m in metres. Thread safe.

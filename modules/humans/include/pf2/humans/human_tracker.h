@@ -30,7 +30,7 @@ class HumanTracker {
   struct Options {
     Association association = Association::kPredicted;
     // --- kPredicted only ---
-    double gate = 0.5;              // metres between a track's prediction and a centre it may take
+    double gate = 1.0;              // metres between a track's prediction and a centre it may take
     double gate_growth = 1.0;       // metres per second unseen added to the gate (the person may
                                     // have turned or stopped while hidden)
     int max_missed = 30;            // frames a track lives without a centre (1 s at 30 Hz)

@@ -25,6 +25,13 @@ struct SlamOptions {
   // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
   // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
   bool track_humans = true;
+  // d_m of eq. 2 over the person's depths inside their principal interval (h_min, h_max) widened
+  // by the filter's human_margin only; false: over all of D_h^t, as the paper writes it.
+  bool human_depth_in_interval = true;
+  // A person whose d_m rests on fewer depths than this fraction of the image's pixels gets no
+  // centre: a sliver of a person at the image border or behind another gives a box centre far
+  // from the body and a depth histogram that may be the other person's (0 = every person).
+  double human_min_area = 0.001;
   HumanTracker::Options humans;
   // Bounded memory on long runs: the newest 300 keyframes stay re-integrable (about 100 MB of
   // stored images), TSDF blocks farther than 10 m from the camera are dropped (a room is never
