@@ -73,6 +73,10 @@ const char* kUsage =
     "  --separate-occlusions B  1: overlapping boxes that found one person look again (default 1)\n"
     "  --use-mask             also remove backend masks (dilated) where a backend gives them\n"
     "  --temporal             guard last frame's removed pixels, moved by groundtruth.txt motion\n"
+    "  --temporal-motion M    metres a person moves per frame: the moved pixels are dilated by it as\n"
+    "                         seen at their depth (default 0.02)\n"
+    "  --temporal-dilation PX   ... and by at least PX pixels (default 6)\n"
+    "  --temporal-margin M    metres a depth may differ from the moved ones (default 0.15)\n"
     "  --geometric            remove depth in front of a static model: the farthest static depth\n"
     "                         seen at each pixel, carried from frame to frame with the camera motion\n"
     "                         (a stand-in for the map's prediction, which the SLAM pipeline supplies)\n"
@@ -186,6 +190,9 @@ int run(int argc, char** argv) {
   filter_options.separate_occlusions = cli.integer("--separate-occlusions", 1) != 0;
   filter_options.use_mask = cli.flag("--use-mask");
   filter_options.temporal = cli.flag("--temporal");
+  filter_options.temporal_dilation = cli.integer("--temporal-dilation", filter_options.temporal_dilation);
+  filter_options.temporal_margin = cli.number("--temporal-margin", filter_options.temporal_margin);
+  filter_options.temporal_person_motion = cli.number("--temporal-motion", filter_options.temporal_person_motion);
   filter_options.geometric = cli.flag("--geometric");
   const bool no_filter = cli.flag("--no-filter");
   const int max_frames = cli.integer("--max-frames", 0);

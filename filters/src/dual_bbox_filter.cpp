@@ -15,6 +15,7 @@ namespace {
 constexpr uint8_t kKept = 0;
 constexpr uint8_t kRemoved = 255;  // removed but not a person's (ring outlier, temporal guard)
 constexpr int kMaxPeople = 254;    // person t is stored as t + 1
+constexpr int kMaxTemporalRadius = 40;  // half-resolution cells: 80 px, a person at 0.25 m
 
 // An interval widened by a margin, as floats, for pixel loops: a copy in registers (stores through
 // uint8_t pointers would make the compiler reload a struct's fields on every pixel). Empty (never
@@ -420,31 +421,94 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
       const cv::Rect bounds = warpWithCompanion(previous_depth_, previous_age_, intrinsics_.scaled(0.5), T_cur_prev,
                                                 previous_bounds_, &warped_, &warped_age_);
       if (!bounds.empty()) {
-        const int r = std::max(0, (o.temporal_dilation + 1) / 2);
-        const cv::Rect area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
-                              cv::Rect(0, 0, half.width, half.height);
-        // Nearest and farthest moved depth around each cell, and the youngest age there.
-        for (cv::Mat* m : {&inverse_, &nearest_inverse_, &farthest_}) m->create(half, CV_32F);
-        for (cv::Mat* m : {&age_or_max_, &youngest_}) m->create(half, CV_8U);
-        for (int v = area.y; v < area.y + area.height; ++v) {
+        // Each moved cell is dilated by how far a person moves in a frame
+        // (temporal_person_motion metres) as seen at its depth, and by no less than
+        // temporal_dilation pixels: a walking person at 0.7 m crosses ~30 px a frame, at 3 m ~7 px.
+        // Cells are grouped in depth bands, each dilated with the radius of its nearest cell, so
+        // that a near person does not widen the guard of far ones.
+        constexpr int kBands = 3;
+        const float band_edges[kBands + 1] = {0.f, 1.f, 2.f, std::numeric_limits<float>::infinity()};
+        float band_nearest[kBands];
+        cv::Rect band_bounds[kBands];
+        int band_u0[kBands], band_v0[kBands], band_u1[kBands], band_v1[kBands];
+        for (int k = 0; k < kBands; ++k) {
+          band_nearest[k] = std::numeric_limits<float>::infinity();
+          band_u0[k] = band_v0[k] = std::numeric_limits<int>::max();
+          band_u1[k] = band_v1[k] = -1;
+        }
+        auto bandOf = [&](float z) {
+          int k = 0;
+          while (k + 1 < kBands && z >= band_edges[k + 1]) ++k;
+          return k;
+        };
+        for (int v = bounds.y; v < bounds.y + bounds.height; ++v) {
           const float* w = warped_.ptr<float>(v);
-          const uint8_t* a = warped_age_.ptr<uint8_t>(v);
-          float* inv = inverse_.ptr<float>(v);
-          uint8_t* am = age_or_max_.ptr<uint8_t>(v);
-          for (int u = area.x, u_end = area.x + area.width; u < u_end; ++u) {
-            const bool moved = w[u] > 0.f;
-            inv[u] = moved ? 1.f / w[u] : 0.f;
-            am[u] = moved ? a[u] : 255;
+          for (int u = bounds.x, u_end = bounds.x + bounds.width; u < u_end; ++u) {
+            if (!(w[u] > 0.f)) continue;
+            const int k = bandOf(w[u]);
+            band_nearest[k] = std::min(band_nearest[k], w[u]);
+            band_u0[k] = std::min(band_u0[k], u);
+            band_u1[k] = std::max(band_u1[k], u);
+            band_v0[k] = std::min(band_v0[k], v);
+            band_v1[k] = std::max(band_v1[k], v);
           }
         }
-        // A square kernel: OpenCV runs it as separable row and column passes (an ellipse is ~10x slower).
-        const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
+        const double half_fx = intrinsics_.scaled(0.5).fx;
+        const int min_radius = std::max(0, (o.temporal_dilation + 1) / 2);
+        int band_radius[kBands];
+        cv::Rect area;
+        for (int k = 0; k < kBands; ++k) {
+          if (band_u1[k] < 0) continue;
+          const double motion_px = half_fx * o.temporal_person_motion / band_nearest[k];
+          band_radius[k] = std::max(min_radius, std::min(kMaxTemporalRadius, static_cast<int>(std::ceil(motion_px))));
+          const int r = band_radius[k];
+          band_bounds[k] = cv::Rect(band_u0[k] - r, band_v0[k] - r, band_u1[k] - band_u0[k] + 1 + 2 * r,
+                                    band_v1[k] - band_v0[k] + 1 + 2 * r) &
+                           cv::Rect(0, 0, half.width, half.height);
+          area |= band_bounds[k];
+        }
+        // Nearest and farthest moved depth around each cell, and the youngest age there.
+        for (cv::Mat* m : {&inverse_, &nearest_inverse_, &farthest_, &band_depth_, &band_nearest_inverse_, &band_farthest_}) {
+          m->create(half, CV_32F);
+        }
+        for (cv::Mat* m : {&age_or_max_, &youngest_, &band_youngest_}) m->create(half, CV_8U);
+        cv::Mat nearest_inverse = nearest_inverse_(area), farthest = farthest_(area), youngest = youngest_(area);
+        nearest_inverse.setTo(0);
+        farthest.setTo(0);
+        youngest.setTo(255);
         const int border = cv::BORDER_CONSTANT | cv::BORDER_ISOLATED;
         const cv::Point anchor(-1, -1);
-        cv::Mat nearest_inverse = nearest_inverse_(area), farthest = farthest_(area), youngest = youngest_(area);
-        cv::dilate(inverse_(area), nearest_inverse, kernel, anchor, 1, border, cv::Scalar(0));
-        cv::dilate(warped_(area), farthest, kernel, anchor, 1, border, cv::Scalar(0));
-        cv::erode(age_or_max_(area), youngest, kernel, anchor, 1, border, cv::Scalar(255));
+        for (int k = 0; k < kBands; ++k) {
+          if (band_u1[k] < 0) continue;
+          const cv::Rect& region = band_bounds[k];
+          const float z_low = band_edges[k], z_high = band_edges[k + 1];
+          for (int v = region.y; v < region.y + region.height; ++v) {
+            const float* w = warped_.ptr<float>(v);
+            const uint8_t* a = warped_age_.ptr<uint8_t>(v);
+            float* inv = inverse_.ptr<float>(v);
+            float* depth_in_band = band_depth_.ptr<float>(v);
+            uint8_t* am = age_or_max_.ptr<uint8_t>(v);
+            for (int u = region.x, u_end = region.x + region.width; u < u_end; ++u) {
+              const bool in_band = w[u] > 0.f && w[u] >= z_low && w[u] < z_high;
+              inv[u] = in_band ? 1.f / w[u] : 0.f;
+              depth_in_band[u] = in_band ? w[u] : 0.f;
+              am[u] = in_band ? a[u] : 255;
+            }
+          }
+          // A square kernel: OpenCV runs it as separable row and column passes (an ellipse is ~10x slower).
+          const int r = band_radius[k];
+          const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
+          cv::Mat band_nearest_inverse = band_nearest_inverse_(region), band_farthest = band_farthest_(region),
+                  band_youngest = band_youngest_(region);
+          cv::dilate(inverse_(region), band_nearest_inverse, kernel, anchor, 1, border, cv::Scalar(0));
+          cv::dilate(band_depth_(region), band_farthest, kernel, anchor, 1, border, cv::Scalar(0));
+          cv::erode(age_or_max_(region), band_youngest, kernel, anchor, 1, border, cv::Scalar(255));
+          cv::Mat nearest_here = nearest_inverse_(region), farthest_here = farthest_(region),
+                  youngest_here = youngest_(region);
+          cv::max(nearest_here, band_nearest_inverse, nearest_here);
+          cv::max(farthest_here, band_farthest, farthest_here);
+          cv::min(youngest_here, band_youngest, youngest_here);
+        }
         // Per cell, the depth range a pixel must fall in to be guarded: (nearest - margin,
         // farthest + margin), empty where nothing moved near or the youngest pixel is too old.
         const float margin = static_cast<float>(o.temporal_margin);

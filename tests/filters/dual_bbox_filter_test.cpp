@@ -295,6 +295,32 @@ TEST(DualBBoxFilter, TemporalAdditionGuardsAMissedPersonForMaxAgeFrames) {
   EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(17, 10, 10, 15))), 0);
 }
 
+TEST(DualBBoxFilter, TemporalGuardWidensWithThePersonsMotionAtTheirDepth) {
+  // A person 0.6 m from a still camera (fx = 60), cols 30..39, rows 20..49, in front of a wall at
+  // 3 m; next frame they moved 8 px to the right and the detector missed them.
+  cv::Mat before(60, 80, CV_32F, cv::Scalar(3.0f)), after = before.clone();
+  before(cv::Rect(30, 20, 10, 30)).setTo(0.6f);
+  after(cv::Rect(38, 20, 10, 30)).setTo(0.6f);
+  DualBBoxFilter::Options o = testOptions();
+  o.temporal = true;
+  o.temporal_dilation = 2;
+  auto keptOfThePerson = [&](double person_motion) {
+    o.temporal_person_motion = person_motion;
+    DualBBoxFilter filter(o);
+    filter.setIntrinsics(CameraIntrinsics{60, 60, 40, 30, 80, 60});
+    filter.filter(before, detections({person(30, 20, 40, 50)}));
+    const auto r = filter.filter(after, detections({}));
+    EXPECT_EQ(cv::countNonZero(r.removed), cv::countNonZero(r.removed(cv::Rect(38, 20, 10, 30))))
+        << "only the person's pixels are removed, the wall stays";
+    return cv::countNonZero(r.static_depth(cv::Rect(38, 20, 10, 30)));
+  };
+  // Pixels only: the guard (half-resolution cells 15..19 dilated by 1 cell: cols 28..41) covers 4
+  // of the person's 10 new columns.
+  EXPECT_EQ(keptOfThePerson(0.0), 6 * 30);
+  // 0.1 m at 0.6 m is 5 cells (10 px): the whole person is guarded.
+  EXPECT_EQ(keptOfThePerson(0.1), 0);
+}
+
 TEST(DualBBoxFilter, GeometricAdditionUsesTheEvidence) {
   const Scene scene;
   auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);

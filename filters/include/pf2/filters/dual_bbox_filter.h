@@ -125,8 +125,12 @@ class DualBBoxFilter {
     bool use_mask = false;           // use backend masks where present
     int mask_dilation = 3;           // pixels the mask is dilated by
     bool temporal = false;           // guard with last frame's person pixels
-    int temporal_dilation = 6;       // pixels the moved previous mask is dilated by (person motion)
-    double temporal_margin = 0.25;   // metres a depth may differ from the moved previous one
+    double temporal_person_motion = 0.02;  // metres: the moved previous mask is dilated by this
+                                     // distance as seen at its depth (more pixels for near people);
+                                     // (0.04 removed 0.5 points more of the people and 12-19
+                                     // points more of the background: docs/filters.md)
+    int temporal_dilation = 6;       // ... and by at least this many pixels
+    double temporal_margin = 0.15;   // metres a depth may differ from the moved previous one
     int temporal_max_age = 4;        // frames a pixel may be guarded without any box supporting it
     bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
   };
@@ -179,6 +183,7 @@ class DualBBoxFilter {
   // Working images kept between calls: allocating them anew costs more than filling them.
   cv::Mat depth_, state_, outside_;
   cv::Mat age_, warped_, warped_age_, inverse_, nearest_inverse_, farthest_, age_or_max_, youngest_;
+  cv::Mat band_depth_, band_nearest_inverse_, band_farthest_, band_youngest_;  // temporal: one depth band
   cv::Mat guard_low_, guard_high_;  // temporal: depth range guarded per half-resolution cell
   // Last frame's carried pixels at half resolution (every second pixel and row):
   cv::Mat previous_depth_;  // CV_32F depth of the people's and guarded pixels, 0 elsewhere
