@@ -1,0 +1,271 @@
+// pf2_body_fit_eval: BodyFitter against a pf2_synth sequence's ground-truth joints. For every k-th
+// frame and every person in view (gt/boxes.txt), keypoints come either from the ground-truth joints
+// (gt/joints.txt) projected into the camera (groundtruth.txt pose) through the fitter's COCO table,
+// or from the `learned` detector's MoveNet poses matched to the people by box IoU; the person's
+// depth is the frame's depth under the person's mask (gt/masks, or the detector's mask). Errors in
+// the camera frame: MPJPE over the 24 joints, and after root (pelvis) alignment.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <utility>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "pf2/body/body_fitter.h"
+#include "pf2/core/command_line.h"
+#include "pf2/core/error.h"
+#include "pf2/core/text_lines.h"
+#include "pf2/detection/detector_factory.h"
+#include "pf2/io/trajectory_io.h"
+#include "pf2/io/tum_sequence.h"
+
+namespace {
+
+const char* kUsage =
+    "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
+    "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
+    "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
+    "in every K-th frame (default 10) of a pf2_synth sequence and scores the fitted joints against\n"
+    "gt/joints.txt in the camera frame. --detector gt (default): keypoints are the ground-truth\n"
+    "joints projected into the image (outside the image or hidden behind something else = missing),\n"
+    "plus Gaussian noise of PX pixels; learned: MoveNet keypoints of the `learned` detector, matched\n"
+    "to people by box IoU >= 0.3. --temporal starts each fit from the same person's previous fit.\n"
+    "--no-depth fits the keypoints alone.\n";
+
+using Joints = std::array<Eigen::Vector3d, pf2::kBodyJointCount>;
+using Key = std::pair<long long, int>;  // (timestamp in microseconds, person id)
+
+long long micros(double stamp) { return std::llround(stamp * 1e6); }
+
+std::map<Key, Joints> readJoints(const std::string& path) {
+  std::map<Key, Joints> joints;
+  pf2::forEachDataLine(path, "joints file", [&](const std::string& line, int number) {
+    std::istringstream fields(line);
+    double stamp = 0;
+    int id = 0;
+    Joints j;
+    bool ok = static_cast<bool>(fields >> stamp >> id);
+    for (auto& p : j) ok = ok && static_cast<bool>(fields >> p.x() >> p.y() >> p.z());
+    if (!ok) throw pf2::fileError(path, number, "expected 'timestamp id' and 72 joint coordinates");
+    joints[{micros(stamp), id}] = j;
+  });
+  return joints;
+}
+
+struct GtBox {
+  int id;
+  cv::Rect2d box;
+  double visible;
+};
+
+std::map<long long, std::vector<GtBox>> readBoxes(const std::string& path) {
+  std::map<long long, std::vector<GtBox>> boxes;
+  pf2::forEachDataLine(path, "boxes file", [&](const std::string& line, int number) {
+    std::istringstream fields(line);
+    double stamp = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0, visible = 0;
+    int id = 0;
+    if (!(fields >> stamp >> id >> x0 >> y0 >> x1 >> y1 >> visible)) {
+      throw pf2::fileError(path, number, "expected 'timestamp id x_ul y_ul x_lr y_lr visible_fraction'");
+    }
+    // Inclusive pixel corners -> a box one pixel larger.
+    boxes[micros(stamp)].push_back({id, cv::Rect2d(x0, y0, x1 - x0 + 1, y1 - y0 + 1), visible});
+  });
+  return boxes;
+}
+
+double iou(const cv::Rect2d& a, const cv::Rect2d& b) {
+  const double inter = (a & b).area();
+  return inter > 0 ? inter / (a.area() + b.area() - inter) : 0.0;
+}
+
+// Keypoints from ground-truth joints: projected through the COCO table; missing when behind the
+// camera, outside the image, or hidden (the pixel shows something else more than 15 cm in front of
+// the joint's surface).
+pf2::BodyFitInput projectedKeypoints(const Joints& joints_c, int id, const cv::Mat& labels, const cv::Mat& depth,
+                                     const pf2::CameraIntrinsics& K, double noise_px, std::mt19937* rng) {
+  std::normal_distribution<double> noise(0.0, 1.0);
+  pf2::BodyFitInput input;
+  for (int k = 0; k < pf2::kCocoKeypointCount; ++k) {
+    const int joint = pf2::kCocoToBodyJoint[k].joint;
+    if (joint < 0 || joints_c[joint].z() < 0.1) continue;
+    const Eigen::Vector2d px = K.project(joints_c[joint]);
+    const int u = static_cast<int>(std::lround(px.x())), v = static_cast<int>(std::lround(px.y()));
+    if (u < 0 || v < 0 || u >= K.width || v >= K.height) continue;
+    const float z = depth.at<float>(v, u);
+    const bool hidden = labels.at<uint16_t>(v, u) != id && z > 0 && z < joints_c[joint].z() - 0.25;
+    if (hidden) continue;
+    input.keypoints[k] = {px.x() + noise_px * noise(*rng), px.y() + noise_px * noise(*rng), 1.0};
+  }
+  return input;
+}
+
+std::vector<Eigen::Vector3d> maskedPoints(const cv::Mat& depth, const cv::Mat& mask, const pf2::CameraIntrinsics& K) {
+  cv::Mat person(depth.size(), CV_32F, cv::Scalar(0));
+  depth.copyTo(person, mask);
+  return pf2::depthPointsFromImage(person, K, 2);
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / v.size();
+}
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+int run(int argc, char** argv) {
+  pf2::CommandLine cli(argc, argv);
+  if (cli.helpRequested()) {
+    std::cout << kUsage;
+    return 0;
+  }
+  const int every = cli.integer("--every", 10);
+  const double noise_px = cli.number("--noise", 0.0);
+  const std::string detector_name = cli.value("--detector", "gt");
+  const double min_visible = cli.number("--min-visible", 0.3);
+  const bool temporal = cli.flag("--temporal");
+  const bool no_depth = cli.flag("--no-depth");
+  const int max_frames = cli.integer("--frames", 0);
+  const bool json = cli.flag("--json");
+  const auto positionals = cli.positionals();
+  if (positionals.size() != 1) throw pf2::Error("expected SEQUENCE_DIR (see -h)");
+  if (every < 1 || noise_px < 0) throw pf2::Error("--every must be >= 1 and --noise >= 0");
+  if (detector_name != "gt" && detector_name != "learned") throw pf2::Error("--detector must be gt or learned");
+  const std::string folder = positionals[0];
+
+  const pf2::TumSequence sequence(folder);
+  const pf2::CameraIntrinsics K = sequence.intrinsics();
+  const pf2::Trajectory ground_truth = sequence.groundTruth();
+  if (ground_truth.empty()) throw pf2::fileError(folder + "/groundtruth.txt", "no ground-truth poses");
+  const auto joints_w = readJoints(folder + "/gt/joints.txt");
+  const auto boxes = readBoxes(folder + "/gt/boxes.txt");
+
+  std::unique_ptr<pf2::HumanDetector> detector;
+  if (detector_name == "learned") {
+    pf2::DetectorOptions options;
+    options.extra["learned.pose_every"] = "1";  // fresh MoveNet keypoints on every evaluated frame
+    detector = pf2::createHumanDetector("learned", options);
+  }
+
+  const pf2::BodyModel model = pf2::BodyModel::loadDefault();
+  const pf2::BodyFitter fitter(model);
+  std::mt19937 rng(1);
+  struct PreviousFit {
+    std::size_t frame;
+    Eigen::Isometry3d T_w_c;
+    pf2::BodyParameters body_c;
+  };
+  std::map<int, PreviousFit> previous;  // by person id
+  pf2::BodyParameters warm_start;
+  std::vector<double> mpjpe, aligned, fit_ms;
+  int person_frames = 0, no_keypoints = 0, invalid = 0, unmatched = 0;
+
+  const std::size_t frames = max_frames > 0 ? std::min<std::size_t>(max_frames, sequence.size()) : sequence.size();
+  for (std::size_t i = 0; i < frames; i += every) {
+    const double stamp = sequence.timestamp(i);
+    const auto in_view = boxes.find(micros(stamp));
+    if (in_view == boxes.end()) continue;
+    Eigen::Isometry3d T_w_c;
+    if (!pf2::interpolateAt(ground_truth, stamp, 0.02, &T_w_c)) continue;
+    const Eigen::Isometry3d T_c_w = T_w_c.inverse();
+    const pf2::Frame frame = sequence.frame(i);
+    const std::string depth_file = sequence.files(i).depth.file;
+    const std::string mask_path = folder + "/gt/masks/" + depth_file.substr(depth_file.find_last_of('/') + 1);
+    const cv::Mat labels = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
+    if (labels.type() != CV_16UC1 || labels.size() != frame.depth.size()) {
+      throw pf2::fileError(mask_path, "missing, or not a 16-bit mask of the depth image's size");
+    }
+    pf2::Detections detections;
+    if (detector) detections = detector->detect(frame);
+    std::vector<bool> taken(detections.people.size(), false);
+
+    for (const GtBox& person : in_view->second) {
+      if (person.visible < min_visible) continue;
+      const auto truth = joints_w.find({micros(stamp), person.id});
+      if (truth == joints_w.end()) throw pf2::fileError(folder + "/gt/joints.txt", "no joints for a person in view");
+      ++person_frames;
+      Joints joints_c;
+      for (int j = 0; j < pf2::kBodyJointCount; ++j) joints_c[j] = T_c_w * truth->second[j];
+
+      pf2::BodyFitInput input;
+      cv::Mat mask = labels == person.id;
+      if (!detector) {
+        input = projectedKeypoints(joints_c, person.id, labels, frame.depth, K, noise_px, &rng);
+      } else {
+        // Greedy: the unmatched detection with the largest IoU.
+        int best = -1;
+        double best_iou = 0.3;
+        for (std::size_t d = 0; d < detections.people.size(); ++d) {
+          const pf2::PersonBox& b = detections.people[d].box;
+          const double o = iou(person.box, cv::Rect2d(b.x_ul, b.y_ul, b.width(), b.height()));
+          if (!taken[d] && o >= best_iou && detections.people[d].keypoints.size() == pf2::kCocoKeypointCount) {
+            best = static_cast<int>(d), best_iou = o;
+          }
+        }
+        if (best < 0) {
+          ++unmatched;
+          continue;
+        }
+        taken[best] = true;
+        const pf2::PersonDetection& d = detections.people[best];
+        for (int k = 0; k < pf2::kCocoKeypointCount; ++k) {
+          input.keypoints[k] = {d.keypoints[k].u, d.keypoints[k].v, d.keypoints[k].score};
+        }
+        if (!d.mask.empty()) mask = d.mask > 0;
+      }
+      if (!no_depth) input.points_c = maskedPoints(frame.depth, mask, K);
+      input.up_c = T_c_w.linear() * Eigen::Vector3d::UnitZ();  // the synthetic world is z up
+      const auto prev = previous.find(person.id);
+      if (temporal && prev != previous.end() && prev->second.frame + every == i) {
+        // The previous fit moved into this frame's camera (ground-truth camera motion).
+        const pf2::BodyParameters& body = prev->second.body_c;
+        warm_start = pf2::bodyToWorld(body, T_c_w * prev->second.T_w_c, model.restJoints(body.shape)[0]);
+        input.previous = &warm_start;
+      }
+      const auto start = std::chrono::steady_clock::now();
+      const pf2::BodyFitResult fit = fitter.fit(input, K);
+      fit_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+      if (!fit.valid) {
+        ++(fit.keypoints_used < fitter.options().min_keypoints ? no_keypoints : invalid);
+        previous.erase(person.id);
+        continue;
+      }
+      previous[person.id] = {i, T_w_c, fit.parameters};
+      double e = 0, a = 0;
+      for (int j = 0; j < pf2::kBodyJointCount; ++j) {
+        e += (fit.joints_c[j] - joints_c[j]).norm();
+        a += ((fit.joints_c[j] - fit.joints_c[0]) - (joints_c[j] - joints_c[0])).norm();
+      }
+      mpjpe.push_back(1000 * e / pf2::kBodyJointCount);
+      aligned.push_back(1000 * a / pf2::kBodyJointCount);
+    }
+  }
+
+  std::printf("keypoints %s%s, depth %s, %s start: person-frames %d (visible >= %.2f, every %d-th frame)\n",
+              detector ? "learned (MoveNet)" : "gt-projected", detector ? "" : (" + noise " + std::to_string(noise_px) + " px").c_str(),
+              no_depth ? "off" : "on", temporal ? "temporal" : "eq. 2", person_frames, min_visible, every);
+  std::printf("fitted %zu, too few keypoints %d, other invalid %d, unmatched %d\n", mpjpe.size(), no_keypoints,
+              invalid, unmatched);
+  std::printf("MPJPE camera frame: mean %.1f  median %.1f mm\n", mean(mpjpe), median(mpjpe));
+  std::printf("MPJPE root-aligned: mean %.1f  median %.1f mm\n", mean(aligned), median(aligned));
+  std::printf("fit time: median %.2f  mean %.2f ms\n", median(fit_ms), mean(fit_ms));
+  if (json) {
+    std::printf("{\"person_frames\":%d,\"fitted\":%zu,\"too_few_keypoints\":%d,\"invalid\":%d,\"unmatched\":%d,"
+                "\"mpjpe_mean_mm\":%.2f,\"mpjpe_median_mm\":%.2f,\"aligned_mean_mm\":%.2f,"
+                "\"aligned_median_mm\":%.2f,\"fit_median_ms\":%.3f}\n",
+                person_frames, mpjpe.size(), no_keypoints, invalid, unmatched, mean(mpjpe), median(mpjpe),
+                mean(aligned), median(aligned), median(fit_ms));
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return pf2::runApp("pf2_body_fit_eval", run, argc, argv); }
