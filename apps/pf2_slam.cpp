@@ -24,7 +24,8 @@ const char* kUsage =
     "generated into OUT_DIR/synthetic, run, and evaluated against its ground truth.\n"
     "\n"
     "Outputs in OUT_DIR (default pf2_output): trajectory.txt (TUM format, one line per frame with a\n"
-    "pose), stats.json (frames, lost frames, per-stage median/p90 ms, fps), map.ply, map.bt, map.ot.\n"
+    "pose), stats.json (frames, lost frames, per-stage median/p90 ms, fps), map.ply, map.bt, map.ot,\n"
+    "humans.txt ('timestamp id x y z' person centres, world frame of trajectory.txt) with a detector.\n"
     "\n"
     "Options:\n"
     "  -o DIR               output folder (created if needed)\n"
@@ -142,8 +143,9 @@ int run(int argc, char** argv) {
       std::printf("rpe.rmse    unavailable (%s)\n", e.what());
     }
   }
-  std::printf("output      %s/trajectory.txt, stats.json%s\n", out_dir.c_str(),
-              options.build_map ? ", map.ply, map.bt, map.ot" : "");
+  std::printf("output      %s/trajectory.txt, stats.json%s%s\n", out_dir.c_str(),
+              options.build_map ? ", map.ply, map.bt, map.ot" : "",
+              options.track_humans && s.detector != "none" ? ", humans.txt" : "");
   return 0;
 }
 

@@ -116,15 +116,21 @@ struct FrameRecord {
   std::vector<std::pair<int, Eigen::Vector3d>> people_c;
 };
 
-// Eq. 2 for each person the filter separated: box centre at the mean depth of their D_h^t (with
-// in_interval, of its depths inside the person's interval widened by `margin`); people whose
-// depths cover less than min_area of the image get none.
-std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const CameraIntrinsics& K,
-                                           bool in_interval, double margin, double min_area) {
+// Eq. 2 for each person the filter separated: box centre at the mean depth of their D_h^t. With
+// in_interval, a person whose detection came with a mask averages only the depths inside their
+// interval widened by `margin`: the dilated mask is taken whatever its depth, so it brings in the
+// edges of whoever stands in front or behind (without a mask the filter has already kept only
+// depths of the person's intervals). People whose depths cover less than min_area of the image
+// get no centre.
+std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
+                                           const CameraIntrinsics& K, bool in_interval, double margin,
+                                           double min_area) {
   const double min_pixels = min_area * filtered.static_depth.total();
   std::vector<Eigen::Vector3d> centres_c;
   for (const DualBBoxFilter::Person& person : filtered.people) {
-    const bool use_interval = in_interval && person.interval.valid;
+    const bool masked = person.detection >= 0 && person.detection < static_cast<int>(detections.people.size()) &&
+                        !detections.people[person.detection].mask.empty();
+    const bool use_interval = in_interval && masked && person.interval.valid;
     long pixels = 0;
     const double d_m = meanDepth(person.depth, use_interval ? person.interval.min - margin : 0.0,
                                  use_interval ? person.interval.max + margin : std::numeric_limits<double>::infinity(),
@@ -276,9 +282,9 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
       ScopedStageTimer frame_timer(&stats_, "frame");
       Frame static_frame = frame;
       cv::Mat person_mask;
-      std::vector<Eigen::Vector3d> people_c;
+      Detections detections;
+      DualBBoxFilter::Result filtered;
       if (detector) {
-        Detections detections;
         {
           ScopedStageTimer timer(&stats_, "detect");
           detections = detector->detect(frame);
@@ -288,13 +294,9 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         // Constant-velocity guess of this frame's motion, for the temporal guard.
         const Eigen::Isometry3d T_cur_prev =
             poses_in_row >= 2 ? T_w_prev.inverse() * T_w_prevprev : Eigen::Isometry3d::Identity();
-        DualBBoxFilter::Result filtered = filter.filter(frame.depth, detections, T_cur_prev);
+        filtered = filter.filter(frame.depth, detections, T_cur_prev);
         static_frame.depth = filtered.static_depth;
         person_mask = filtered.removed;
-        if (track_humans) {
-          people_c = personCentres(filtered, frame.intrinsics, options_.human_depth_in_interval,
-                                   options_.filter.human_margin, options_.human_min_area);
-        }
       }
       TrackResult result;
       {
@@ -304,9 +306,12 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
       FrameRecord record{frame.timestamp, result.status != TrackStatus::kLost, result.keyframe_id,
                          Eigen::Isometry3d::Identity(), {}};
       if (track_humans) {
-        // Associated with this frame's pose as tracked now; a frame without a pose counts as
-        // one where nobody was seen, so the tracks age.
+        // After tracking, so the tracker waits for nothing. Associated with this frame's pose as
+        // tracked now; a frame without a pose counts as one where nobody was seen (tracks age).
         ScopedStageTimer timer(&stats_, "humans");
+        const std::vector<Eigen::Vector3d> people_c =
+            personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
+                          options_.filter.human_margin, options_.human_min_area);
         std::vector<Eigen::Vector3d> people_w;
         if (record.has_pose) {
           for (const Eigen::Vector3d& p_c : people_c) people_w.push_back(humanCentreInWorld(result.T_w_c, p_c));

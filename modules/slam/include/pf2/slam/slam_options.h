@@ -25,8 +25,9 @@ struct SlamOptions {
   // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
   // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
   bool track_humans = true;
-  // d_m of eq. 2 over the person's depths inside their principal interval (h_min, h_max) widened
-  // by the filter's human_margin only; false: over all of D_h^t, as the paper writes it.
+  // For a person detected with a mask: d_m of eq. 2 over their depths inside their principal
+  // interval (h_min, h_max) widened by the filter's human_margin only (the dilated mask also takes
+  // the edges of people in front or behind); false: over all of D_h^t, as the paper writes it.
   bool human_depth_in_interval = true;
   // A person whose d_m rests on fewer depths than this fraction of the image's pixels gets no
   // centre: a sliver of a person at the image border or behind another gives a box centre far
