@@ -28,13 +28,14 @@ namespace {
 const char* kUsage =
     "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
+    "                         [--weight-depth W] [--weight-pose W] [--weight-shape W]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
     "in every K-th frame (default 10) of a pf2_synth sequence and scores the fitted joints against\n"
     "gt/joints.txt in the camera frame. --detector gt (default): keypoints are the ground-truth\n"
     "joints projected into the image (outside the image or hidden behind something else = missing),\n"
     "plus Gaussian noise of PX pixels; learned: MoveNet keypoints of the `learned` detector, matched\n"
     "to people by box IoU >= 0.3. --temporal starts each fit from the same person's previous fit.\n"
-    "--no-depth fits the keypoints alone.\n";
+    "--no-depth fits the keypoints alone. --weight-* override BodyFitter::Options.\n";
 
 using Joints = std::array<Eigen::Vector3d, pf2::kBodyJointCount>;
 using Key = std::pair<long long, int>;  // (timestamp in microseconds, person id)
@@ -134,6 +135,10 @@ int run(int argc, char** argv) {
   const bool no_depth = cli.flag("--no-depth");
   const int max_frames = cli.integer("--frames", 0);
   const bool json = cli.flag("--json");
+  pf2::BodyFitter::Options fit_options;
+  fit_options.weight_depth = cli.number("--weight-depth", fit_options.weight_depth);
+  fit_options.weight_pose = cli.number("--weight-pose", fit_options.weight_pose);
+  fit_options.weight_shape = cli.number("--weight-shape", fit_options.weight_shape);
   const auto positionals = cli.positionals();
   if (positionals.size() != 1) throw pf2::Error("expected SEQUENCE_DIR (see -h)");
   if (every < 1 || noise_px < 0) throw pf2::Error("--every must be >= 1 and --noise >= 0");
@@ -155,7 +160,7 @@ int run(int argc, char** argv) {
   }
 
   const pf2::BodyModel model = pf2::BodyModel::loadDefault();
-  const pf2::BodyFitter fitter(model);
+  const pf2::BodyFitter fitter(model, fit_options);
   std::mt19937 rng(1);
   struct PreviousFit {
     std::size_t frame;
@@ -165,6 +170,7 @@ int run(int argc, char** argv) {
   std::map<int, PreviousFit> previous;  // by person id
   pf2::BodyParameters warm_start;
   std::vector<double> mpjpe, aligned, fit_ms;
+  std::array<std::vector<double>, pf2::kBodyJointCount> joint_errors;  // mm, per joint
   int person_frames = 0, no_keypoints = 0, invalid = 0, unmatched = 0;
 
   const std::size_t frames = max_frames > 0 ? std::min<std::size_t>(max_frames, sequence.size()) : sequence.size();
@@ -241,6 +247,7 @@ int run(int argc, char** argv) {
       double e = 0, a = 0;
       for (int j = 0; j < pf2::kBodyJointCount; ++j) {
         e += (fit.joints_c[j] - joints_c[j]).norm();
+        joint_errors[j].push_back(1000 * (fit.joints_c[j] - joints_c[j]).norm());
         a += ((fit.joints_c[j] - fit.joints_c[0]) - (joints_c[j] - joints_c[0])).norm();
       }
       mpjpe.push_back(1000 * e / pf2::kBodyJointCount);
@@ -255,6 +262,9 @@ int run(int argc, char** argv) {
               invalid, unmatched);
   std::printf("MPJPE camera frame: mean %.1f  median %.1f mm\n", mean(mpjpe), median(mpjpe));
   std::printf("MPJPE root-aligned: mean %.1f  median %.1f mm\n", mean(aligned), median(aligned));
+  std::printf("per joint, median mm (camera frame):");
+  for (int j = 0; j < pf2::kBodyJointCount; ++j) std::printf(" %s %.0f", pf2::kBodyJointNames[j], median(joint_errors[j]));
+  std::printf("\n");
   std::printf("fit time: median %.2f  mean %.2f ms\n", median(fit_ms), mean(fit_ms));
   if (json) {
     std::printf("{\"person_frames\":%d,\"fitted\":%zu,\"too_few_keypoints\":%d,\"invalid\":%d,\"unmatched\":%d,"
