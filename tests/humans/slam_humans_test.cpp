@@ -110,9 +110,11 @@ TEST(SlamHumans, ConfigKeysAndNoFileWithoutDetector) {
   // Without a detector there are no people and no humans.txt.
   options = fastOptions();
   options.detector = "none";
-  options.max_frames = 3;
+  SyntheticSequence::Options three_frames;
+  three_frames.frames = 3;
+  three_frames.intrinsics = CameraIntrinsics::tumFreiburg3().scaled(0.5);
   const std::string run = testing::TempDir() + "pf2_humans_none";
-  SlamSystem(options).run(TumSequence(sequenceFolder()), sequenceFolder(), run);
+  SlamSystem(options).run(SyntheticSequence(three_frames), "", run);
   EXPECT_FALSE(std::ifstream(run + "/humans.txt").good());
 }
 
