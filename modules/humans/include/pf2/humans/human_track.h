@@ -18,13 +18,15 @@ struct HumanTrack {
   std::vector<HumanTrackPoint> points;      // sorted by time, at most one per frame
 };
 
-// Writes all points, sorted by time then id, with full precision and a header comment;
-// atomically (temporary file + rename). Throws pf2::Error naming the path on failure.
+// Writes all points, sorted by time then id, with 6 decimals (microseconds, micrometres) and a
+// header comment, atomically (temporary file + rename). Throws pf2::Error naming the path on
+// failure. Thread safe (for different paths).
 void writeHumanTracks(const std::string& path, const std::vector<HumanTrack>& tracks);
 
 // Reads a `timestamp id x y z` file (extra columns ignored; CRLF, blank and '#' lines tolerated).
 // Returns the tracks sorted by id, each track's points sorted by time. A malformed line (missing
-// or non-finite numbers, a negative id) throws pf2::Error "path:line: ...".
+// or non-finite numbers, an id outside 0..10^6) throws pf2::Error "path:line: ..."; a missing
+// file throws "path: cannot open ...". Thread safe.
 std::vector<HumanTrack> readHumanTracks(const std::string& path);
 
 }  // namespace pf2
