@@ -177,6 +177,7 @@ TEST(BodyFitter, DegenerateInputGivesAnInvalidResult) {
   for (int k : {5, 6, 11, 12}) limbs.keypoints[k].confidence = 0;
   fit = fitter.fit(limbs, K);
   EXPECT_FALSE(fit.valid);
+  EXPECT_NE(fit.message.find("shoulders"), std::string::npos) << fit.message;
 
   // NaN depth points are ignored; all keypoints at one pixel still give a finite answer or none.
   BodyFitInput same;

@@ -262,9 +262,13 @@ BodyFitResult BodyFitter::fit(const BodyFitInput& input, const CameraIntrinsics&
     result.keypoints_used += use[k];
   }
   const bool shoulders = use[5] && use[6], hips = use[11] && use[12];
-  if (result.keypoints_used < options_.min_keypoints || !(shoulders || hips)) {
+  if (result.keypoints_used < options_.min_keypoints) {
     result.message = "too few keypoints (" + std::to_string(result.keypoints_used) + " usable, need " +
-                     std::to_string(options_.min_keypoints) + " with both shoulders or both hips)";
+                     std::to_string(options_.min_keypoints) + ")";
+    return result;
+  }
+  if (!(shoulders || hips)) {
+    result.message = "neither both shoulders nor both hips seen: nothing to place the body by";
     return result;
   }
 

@@ -48,8 +48,9 @@ struct BodyFitInput {
   // The world's up direction in the camera frame, unit; zero = unknown, then the body starts upright
   // in an upright camera (the paper's R_x(180°)). Known from T_w_c: up_c = R_w_c^T up_w.
   Eigen::Vector3d up_c = Eigen::Vector3d::Zero();
-  // The same person's fit in the previous frame (camera frame of this frame's camera as well as
-  // the caller can give it); when set, the fit starts from it instead of the eq. 2 initialisation.
+  // The same person's fit in the previous frame, moved into this frame's camera frame by the caller
+  // when the camera moved (bodyToWorld with T_c_now_c_prev); when set, the fit starts from it
+  // instead of the eq. 2 initialisation.
   const BodyParameters* previous = nullptr;
 };
 
@@ -72,7 +73,7 @@ class BodyFitter {
   struct Options {
     // Keypoints below this confidence are missing.
     double min_confidence = 0.1;
-    // Fewer usable keypoints than this (or no shoulder/hip pair) = invalid result, no fit.
+    // Fewer usable keypoints than this, or neither both shoulders nor both hips = invalid, no fit.
     int min_keypoints = 5;
     // Reprojection term: residual = weight_2d * sqrt(confidence * link weight) * (pixel error).
     double weight_2d = 1.0;
