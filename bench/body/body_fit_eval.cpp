@@ -255,16 +255,24 @@ int run(int argc, char** argv) {
     }
   }
 
+  char noise_text[64] = "";
+  if (!detector) std::snprintf(noise_text, sizeof noise_text, " + noise %.1f px", noise_px);
   std::printf("keypoints %s%s, depth %s, %s start: person-frames %d (visible >= %.2f, every %d-th frame)\n",
-              detector ? "learned (MoveNet)" : "gt-projected", detector ? "" : (" + noise " + std::to_string(noise_px) + " px").c_str(),
-              no_depth ? "off" : "on", temporal ? "temporal" : "eq. 2", person_frames, min_visible, every);
+              detector ? "learned (MoveNet)" : "gt-projected", noise_text, no_depth ? "off" : "on",
+              temporal ? "temporal" : "eq. 2", person_frames, min_visible, every);
   std::printf("fitted %zu, too few keypoints %d, other invalid %d, unmatched %d\n", mpjpe.size(), no_keypoints,
               invalid, unmatched);
-  std::printf("MPJPE camera frame: mean %.1f  median %.1f mm\n", mean(mpjpe), median(mpjpe));
-  std::printf("MPJPE root-aligned: mean %.1f  median %.1f mm\n", mean(aligned), median(aligned));
-  std::printf("per joint, median mm (camera frame):");
-  for (int j = 0; j < pf2::kBodyJointCount; ++j) std::printf(" %s %.0f", pf2::kBodyJointNames[j], median(joint_errors[j]));
-  std::printf("\n");
+  if (mpjpe.empty()) {
+    std::printf("no fitted person: no errors\n");
+  } else {
+    std::printf("MPJPE camera frame: mean %.1f  median %.1f mm\n", mean(mpjpe), median(mpjpe));
+    std::printf("MPJPE root-aligned: mean %.1f  median %.1f mm\n", mean(aligned), median(aligned));
+    std::printf("per joint, median mm (camera frame):");
+    for (int j = 0; j < pf2::kBodyJointCount; ++j) {
+      std::printf(" %s %.0f", pf2::kBodyJointNames[j], median(joint_errors[j]));
+    }
+    std::printf("\n");
+  }
   std::printf("fit time: median %.2f  mean %.2f ms\n", median(fit_ms), mean(fit_ms));
   if (json) {
     std::printf("{\"person_frames\":%d,\"fitted\":%zu,\"too_few_keypoints\":%d,\"invalid\":%d,\"unmatched\":%d,"
