@@ -35,11 +35,12 @@ struct DepthRange {
 void sanitize(const cv::Mat& depth, cv::Mat& out) {
   out.create(depth.size(), CV_32F);
   for (int v = 0; v < depth.rows; ++v) {
-    const float* in = depth.ptr<float>(v);
-    float* o = out.ptr<float>(v);
-    // Comparisons with NaN are false, so this also clears NaN; written branch-free to vectorise.
+    const float* __restrict in = depth.ptr<float>(v);
+    float* __restrict o = out.ptr<float>(v);
+    // Comparisons with NaN are false, so this also clears NaN; bitwise & (no branches) and
+    // __restrict pointers (hot loops below too) let the compiler vectorise.
     constexpr float kInf = std::numeric_limits<float>::infinity();
-    for (int u = 0, u_end = depth.cols; u < u_end; ++u) o[u] = (in[u] > 0.f && in[u] < kInf) ? in[u] : 0.f;
+    for (int u = 0, u_end = depth.cols; u < u_end; ++u) o[u] = ((in[u] > 0.f) & (in[u] < kInf)) ? in[u] : 0.f;
   }
 }
 
@@ -429,7 +430,6 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
         constexpr int kBands = 3;
         const float band_edges[kBands + 1] = {0.f, 1.f, 2.f, std::numeric_limits<float>::infinity()};
         float band_nearest[kBands];
-        cv::Rect band_bounds[kBands];
         int band_u0[kBands], band_v0[kBands], band_u1[kBands], band_v1[kBands];
         for (int k = 0; k < kBands; ++k) {
           band_nearest[k] = std::numeric_limits<float>::infinity();
@@ -453,19 +453,36 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
             band_v1[k] = std::max(band_v1[k], v);
           }
         }
+        // Neighbouring bands whose radii differ by at most one cell are dilated together with the
+        // larger radius (one pass instead of two; typically everyone beyond ~1.3 m).
+        struct BandGroup {
+          float z_low, z_high;
+          int radius;
+          cv::Rect cells;   // bounds of the moved cells
+          cv::Rect region;  // cells grown by radius, clipped
+        };
+        std::vector<BandGroup> groups;
         const double half_fx = intrinsics_.scaled(0.5).fx;
         const int min_radius = std::max(0, (o.temporal_dilation + 1) / 2);
-        int band_radius[kBands];
-        cv::Rect area;
         for (int k = 0; k < kBands; ++k) {
           if (band_u1[k] < 0) continue;
           const double motion_px = half_fx * o.temporal_person_motion / band_nearest[k];
-          band_radius[k] = std::max(min_radius, std::min(kMaxTemporalRadius, static_cast<int>(std::ceil(motion_px))));
-          const int r = band_radius[k];
-          band_bounds[k] = cv::Rect(band_u0[k] - r, band_v0[k] - r, band_u1[k] - band_u0[k] + 1 + 2 * r,
-                                    band_v1[k] - band_v0[k] + 1 + 2 * r) &
-                           cv::Rect(0, 0, half.width, half.height);
-          area |= band_bounds[k];
+          const int radius = std::max(min_radius, std::min(kMaxTemporalRadius, static_cast<int>(std::ceil(motion_px))));
+          const cv::Rect cells(band_u0[k], band_v0[k], band_u1[k] - band_u0[k] + 1, band_v1[k] - band_v0[k] + 1);
+          if (!groups.empty() && std::abs(groups.back().radius - radius) <= 1) {
+            groups.back().z_high = band_edges[k + 1];
+            groups.back().radius = std::max(groups.back().radius, radius);
+            groups.back().cells |= cells;
+          } else {
+            groups.push_back({band_edges[k], band_edges[k + 1], radius, cells, cv::Rect()});
+          }
+        }
+        cv::Rect area;
+        for (BandGroup& g : groups) {
+          const int r = g.radius;
+          g.region = cv::Rect(g.cells.x - r, g.cells.y - r, g.cells.width + 2 * r, g.cells.height + 2 * r) &
+                     cv::Rect(0, 0, half.width, half.height);
+          area |= g.region;
         }
         // Nearest and farthest moved depth around each cell, and the youngest age there.
         for (cv::Mat* m : {&inverse_, &nearest_inverse_, &farthest_, &band_depth_, &band_nearest_inverse_, &band_farthest_}) {
@@ -473,21 +490,33 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
         }
         for (cv::Mat* m : {&age_or_max_, &youngest_, &band_youngest_}) m->create(half, CV_8U);
         cv::Mat nearest_inverse = nearest_inverse_(area), farthest = farthest_(area), youngest = youngest_(area);
-        nearest_inverse.setTo(0);
-        farthest.setTo(0);
-        youngest.setTo(255);
+        const bool one_group = groups.size() == 1;  // dilated straight into the results
+        if (!one_group) {
+          nearest_inverse.setTo(0);
+          farthest.setTo(0);
+          youngest.setTo(255);
+        }
         const int border = cv::BORDER_CONSTANT | cv::BORDER_ISOLATED;
         const cv::Point anchor(-1, -1);
-        for (int k = 0; k < kBands; ++k) {
-          if (band_u1[k] < 0) continue;
-          const cv::Rect& region = band_bounds[k];
-          const float z_low = band_edges[k], z_high = band_edges[k + 1];
+        for (const BandGroup& g : groups) {
+          const cv::Rect& region = g.region;
+          const float z_low = g.z_low, z_high = g.z_high;
+          // A group of every depth reads the moved depth as it is; others copy their band out.
+          const bool all_depths = one_group;
           for (int v = region.y; v < region.y + region.height; ++v) {
             const float* w = warped_.ptr<float>(v);
             const uint8_t* a = warped_age_.ptr<uint8_t>(v);
             float* inv = inverse_.ptr<float>(v);
-            float* depth_in_band = band_depth_.ptr<float>(v);
             uint8_t* am = age_or_max_.ptr<uint8_t>(v);
+            if (all_depths) {
+              for (int u = region.x, u_end = region.x + region.width; u < u_end; ++u) {
+                const bool moved = w[u] > 0.f;
+                inv[u] = moved ? 1.f / w[u] : 0.f;
+                am[u] = moved ? a[u] : 255;
+              }
+              continue;
+            }
+            float* depth_in_band = band_depth_.ptr<float>(v);
             for (int u = region.x, u_end = region.x + region.width; u < u_end; ++u) {
               const bool in_band = w[u] > 0.f && w[u] >= z_low && w[u] < z_high;
               inv[u] = in_band ? 1.f / w[u] : 0.f;
@@ -496,13 +525,15 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
             }
           }
           // A square kernel: OpenCV runs it as separable row and column passes (an ellipse is ~10x slower).
-          const int r = band_radius[k];
+          const int r = g.radius;
           const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
-          cv::Mat band_nearest_inverse = band_nearest_inverse_(region), band_farthest = band_farthest_(region),
-                  band_youngest = band_youngest_(region);
+          cv::Mat band_nearest_inverse = (one_group ? nearest_inverse_ : band_nearest_inverse_)(region);
+          cv::Mat band_farthest = (one_group ? farthest_ : band_farthest_)(region);
+          cv::Mat band_youngest = (one_group ? youngest_ : band_youngest_)(region);
           cv::dilate(inverse_(region), band_nearest_inverse, kernel, anchor, 1, border, cv::Scalar(0));
-          cv::dilate(band_depth_(region), band_farthest, kernel, anchor, 1, border, cv::Scalar(0));
+          cv::dilate((all_depths ? warped_ : band_depth_)(region), band_farthest, kernel, anchor, 1, border, cv::Scalar(0));
           cv::erode(age_or_max_(region), band_youngest, kernel, anchor, 1, border, cv::Scalar(255));
+          if (one_group) continue;
           cv::Mat nearest_here = nearest_inverse_(region), farthest_here = farthest_(region),
                   youngest_here = youngest_(region);
           cv::max(nearest_here, band_nearest_inverse, nearest_here);
@@ -528,19 +559,33 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
         const cv::Rect full_area = cv::Rect(2 * area.x, 2 * area.y, 2 * area.width, 2 * area.height) &
                                    cv::Rect(0, 0, size.width, size.height);
         guarded_area = full_area;
+        // Each cell's range spread over its two columns, once per pair of rows, so that the
+        // per-pixel test is a branch-free loop.
+        const int x0 = full_area.x, width = full_area.width;
+        std::vector<float> low_row(width), high_row(width);
+        std::vector<uint8_t> age_row(width);
         for (int v = full_area.y; v < full_area.y + full_area.height; ++v) {
-          const float* d = depth.ptr<float>(v);
-          const float* low = guard_low_.ptr<float>(v / 2);
-          const float* high = guard_high_.ptr<float>(v / 2);
-          const uint8_t* yo = youngest_.ptr<uint8_t>(v / 2);
-          uint8_t* s = state.ptr<uint8_t>(v);
-          uint8_t* ag = age.ptr<uint8_t>(v);
-          for (int u = full_area.x, u_end = full_area.x + full_area.width; u < u_end; ++u) {
-            const int c = u / 2;
-            if (s[u] == kKept && d[u] > 0.f && d[u] > low[c] && d[u] < high[c]) {
-              s[u] = kRemoved;
-              ag[u] = static_cast<uint8_t>(yo[c] + 1);
+          if (v == full_area.y || v % 2 == 0) {
+            const float* low = guard_low_.ptr<float>(v / 2);
+            const float* high = guard_high_.ptr<float>(v / 2);
+            const uint8_t* yo = youngest_.ptr<uint8_t>(v / 2);
+            for (int i = 0; i < width; ++i) {
+              const int c = (x0 + i) / 2;
+              low_row[i] = low[c];
+              high_row[i] = high[c];
+              age_row[i] = static_cast<uint8_t>(yo[c] + 1);
             }
+          }
+          const float* __restrict d = depth.ptr<float>(v) + x0;
+          const float* __restrict lo = low_row.data();
+          const float* __restrict hi = high_row.data();
+          const uint8_t* __restrict next_age = age_row.data();
+          uint8_t* __restrict s = state.ptr<uint8_t>(v) + x0;
+          uint8_t* __restrict ag = age.ptr<uint8_t>(v) + x0;
+          for (int i = 0; i < width; ++i) {
+            const bool hit = (s[i] == kKept) & (d[i] > 0.f) & (d[i] > lo[i]) & (d[i] < hi[i]);
+            s[i] = hit ? kRemoved : s[i];
+            ag[i] = hit ? next_age[i] : ag[i];
           }
         }
       }
@@ -561,22 +606,22 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   result.static_depth.create(size, CV_32F);
   result.removed.create(size, CV_8U);
   for (int v = 0; v < size.height; ++v) {
-    const float* d = depth.ptr<float>(v);
-    const uint8_t* s = state.ptr<uint8_t>(v);
-    const uint8_t* dyn = dynamic.empty() ? nullptr : dynamic.ptr<uint8_t>(v);
-    float* out = result.static_depth.ptr<float>(v);
-    uint8_t* removed = result.removed.ptr<uint8_t>(v);
+    const float* __restrict d = depth.ptr<float>(v);
+    const uint8_t* __restrict s = state.ptr<uint8_t>(v);
+    const uint8_t* __restrict dyn = dynamic.empty() ? nullptr : dynamic.ptr<uint8_t>(v);
+    float* __restrict out = result.static_depth.ptr<float>(v);
+    uint8_t* __restrict removed = result.removed.ptr<uint8_t>(v);
     if (dyn) {
       for (int u = 0, u_end = size.width; u < u_end; ++u) {
-        const bool kept = s[u] == kKept && dyn[u] == 0;
+        const bool kept = (s[u] == kKept) & (dyn[u] == 0);
         out[u] = kept ? d[u] : 0.f;
-        removed[u] = !kept && d[u] > 0.f ? 255 : 0;
+        removed[u] = static_cast<uint8_t>(-static_cast<int>(!kept & (d[u] > 0.f)));
       }
     } else {
       for (int u = 0, u_end = size.width; u < u_end; ++u) {
         const bool kept = s[u] == kKept;
         out[u] = kept ? d[u] : 0.f;
-        removed[u] = !kept && d[u] > 0.f ? 255 : 0;
+        removed[u] = static_cast<uint8_t>(-static_cast<int>(!kept & (d[u] > 0.f)));
       }
     }
   }
