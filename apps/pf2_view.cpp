@@ -1,0 +1,324 @@
+// pf2_view: an interactive 3D view of a pf2_slam output folder (map mesh, camera trajectory,
+// people's tracks) through PCL's visualiser. Everything is read and checked before a window opens,
+// so bad input ends with one error line and never with a half-drawn window.
+#include <pcl/PolygonMesh.h>
+#include <pcl/console/print.h>
+#include <pcl/point_types.h>
+#include <pcl/visualization/pcl_visualizer.h>
+#include <vtkActor.h>
+#include <vtkCellArray.h>
+#include <vtkPNGWriter.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyLine.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkSmartPointer.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <X11/Xlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pf2/core/command_line.h"
+#include "pf2/core/error.h"
+#include "pf2/humans/human_track.h"
+#include "pf2/io/trajectory_io.h"
+#include "pf2/surface/triangle_mesh.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kUsage =
+    "Usage: pf2_view RUN_DIR [options]\n"
+    "Shows a pf2_slam output folder in 3D: the static map (map.ply, vertex colours), the camera\n"
+    "trajectory (trajectory.txt, white polyline, a camera frustum every N poses, the first one green)\n"
+    "and each person's track (humans.txt, one colour per id, the id written at its last position).\n"
+    "trajectory.txt is required; a missing map.ply or humans.txt is skipped with a note.\n"
+    "\n"
+    "Options:\n"
+    "  --no-map            do not load or show map.ply\n"
+    "  --screenshot FILE   render one frame, save it as PNG and exit (needs an X display;\n"
+    "                      under a headless shell: xvfb-run -a pf2_view ...)\n"
+    "  --size WxH          window size in pixels (default 1280x800)\n"
+    "  --camera-every N    draw a camera frustum every N poses (default 30; 0: none)\n"
+    "  -h, --help          this text\n"
+    "\n"
+    "Keys (PCL's defaults): r reset the view to fit everything, left drag rotate, middle drag or\n"
+    "shift+left drag pan, wheel zoom, f fly to the point under the mouse, w wireframe, s surface,\n"
+    "g scale grid, j save a screenshot, o perspective/parallel projection, c print the camera,\n"
+    "+/- point size, h print all keys to the terminal, q quit.\n"
+    "Exit status: 0 on success, 1 on bad input (the error line names the file).\n";
+
+// What a run folder holds, read and validated before any window exists.
+struct RunData {
+  pf2::Trajectory trajectory;
+  pf2::TriangleMesh map;
+  std::vector<pf2::HumanTrack> people;
+  bool has_map = false;
+};
+
+RunData loadRun(const fs::path& dir, bool with_map) {
+  if (!fs::is_directory(dir)) throw pf2::fileError(dir.string(), "no such folder");
+  RunData run;
+  const fs::path trajectory_path = dir / "trajectory.txt";
+  if (!fs::exists(trajectory_path)) {
+    throw pf2::fileError(trajectory_path.string(), "no such file (not a pf2_slam output folder?)");
+  }
+  run.trajectory = pf2::readTrajectory(trajectory_path.string());
+  if (run.trajectory.empty()) throw pf2::fileError(trajectory_path.string(), "no poses in file");
+
+  const fs::path map_path = dir / "map.ply";
+  if (!with_map) {
+    std::printf("note: --no-map, %s not loaded\n", map_path.string().c_str());
+  } else if (!fs::exists(map_path)) {
+    std::printf("note: %s not found, no map shown\n", map_path.string().c_str());
+  } else {
+    run.map = pf2::loadMeshPly(map_path.string());
+    run.has_map = !run.map.empty();
+    if (!run.has_map) std::printf("note: %s has no triangles, no map shown\n", map_path.string().c_str());
+  }
+
+  const fs::path humans_path = dir / "humans.txt";
+  if (fs::exists(humans_path)) {
+    run.people = pf2::readHumanTracks(humans_path.string());
+  } else {
+    std::printf("note: %s not found, no people shown\n", humans_path.string().c_str());
+  }
+  return run;
+}
+
+// "WxH" with both sides in [64, 8192].
+std::array<int, 2> parseSize(const std::string& text) {
+  int w = 0, h = 0;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 64 || h < 64 || w > 8192 ||
+      h > 8192) {
+    throw pf2::Error("--size: expected WxH with sides 64..8192, got '" + text + "'");
+  }
+  return {w, h};
+}
+
+// Axis-aligned bounds of everything drawn, for the initial camera and the size of glyphs.
+struct Bounds {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
+  void add(const Eigen::Vector3d& p) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
+  Eigen::Vector3d centre() const { return 0.5 * (lo + hi); }
+  // Half the diagonal, at least 0.5 m so that a single pose still gets a sensible view.
+  double radius() const { return std::max(0.5, 0.5 * (hi - lo).norm()); }
+};
+
+Bounds boundsOf(const RunData& run) {
+  Bounds b;
+  for (const pf2::StampedPose& pose : run.trajectory) b.add(pose.T_w_c.translation());
+  for (const pf2::HumanTrack& track : run.people) {
+    for (const pf2::HumanTrackPoint& point : track.points) b.add(point.p_w);
+  }
+  if (run.has_map) {
+    for (const Eigen::Vector3f& v : run.map.vertices) b.add(v.cast<double>());
+  }
+  return b;
+}
+
+// A polyline through points, or separate segments (pairs of points) when `segments` is set.
+vtkSmartPointer<vtkPolyData> makeLines(const std::vector<Eigen::Vector3d>& points, bool segments) {
+  auto vtk_points = vtkSmartPointer<vtkPoints>::New();
+  for (const Eigen::Vector3d& p : points) vtk_points->InsertNextPoint(p.x(), p.y(), p.z());
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  if (segments) {
+    for (vtkIdType i = 0; i + 1 < static_cast<vtkIdType>(points.size()); i += 2) {
+      const vtkIdType ids[2] = {i, i + 1};
+      cells->InsertNextCell(2, ids);
+    }
+  } else {
+    auto line = vtkSmartPointer<vtkPolyLine>::New();
+    line->GetPointIds()->SetNumberOfIds(static_cast<vtkIdType>(points.size()));
+    for (vtkIdType i = 0; i < static_cast<vtkIdType>(points.size()); ++i) line->GetPointIds()->SetId(i, i);
+    cells->InsertNextCell(line);
+  }
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->SetPoints(vtk_points);
+  data->SetLines(cells);
+  return data;
+}
+
+void addLines(pcl::visualization::PCLVisualizer& viewer, const std::vector<Eigen::Vector3d>& points,
+              bool segments, const std::array<double, 3>& rgb, double width, const std::string& id) {
+  viewer.addModelFromPolyData(makeLines(points, segments), id);
+  viewer.setShapeRenderingProperties(pcl::visualization::PCL_VISUALIZER_COLOR, rgb[0], rgb[1], rgb[2], id);
+  viewer.setShapeRenderingProperties(pcl::visualization::PCL_VISUALIZER_LINE_WIDTH, width, id);
+  // Unlit, so that a line has exactly its colour from every side (and matches its id label).
+  vtkActor* actor = vtkActor::SafeDownCast(viewer.getShapeActorMap()->at(id));
+  if (actor != nullptr) actor->GetProperty()->LightingOff();
+}
+
+// Segments of a pinhole frustum (apex at the camera centre, 4:3 image, camera x right, y down,
+// z forward) of the given depth, appended to `out`.
+void appendFrustum(const Eigen::Isometry3d& T_w_c, double depth, std::vector<Eigen::Vector3d>* out) {
+  const Eigen::Vector3d apex = T_w_c.translation();
+  const double hx = 0.5 * depth, hy = 0.375 * depth;
+  const std::array<Eigen::Vector3d, 4> corners = {
+      T_w_c * Eigen::Vector3d(-hx, -hy, depth), T_w_c * Eigen::Vector3d(hx, -hy, depth),
+      T_w_c * Eigen::Vector3d(hx, hy, depth), T_w_c * Eigen::Vector3d(-hx, hy, depth)};
+  for (int i = 0; i < 4; ++i) {
+    out->insert(out->end(), {apex, corners[i], corners[i], corners[(i + 1) % 4]});
+  }
+}
+
+// Distinct, bright colours for person ids on a dark background.
+std::array<double, 3> personColour(int id) {
+  static const std::array<std::array<double, 3>, 8> kPalette = {{{1.0, 0.35, 0.2},
+                                                                  {0.25, 0.45, 1.0},
+                                                                  {1.0, 0.85, 0.1},
+                                                                  {0.8, 0.3, 1.0},
+                                                                  {0.1, 0.9, 0.8},
+                                                                  {1.0, 0.4, 0.7},
+                                                                  {0.6, 1.0, 0.3},
+                                                                  {1.0, 0.6, 0.1}}};
+  return kPalette[static_cast<std::size_t>(std::max(id, 0)) % kPalette.size()];
+}
+
+// Refuses to go on without a reachable X display: VTK's X render window aborts the process
+// when it cannot open one. The connection is kept open until the viewer is gone, because an X
+// server (Xvfb too) resets when its last client leaves and would refuse VTK's connection meanwhile.
+struct DisplayCloser {
+  void operator()(Display* display) const { XCloseDisplay(display); }
+};
+std::unique_ptr<Display, DisplayCloser> openDisplay() {
+  const char* name = std::getenv("DISPLAY");
+  if (name == nullptr || *name == '\0') {
+    throw pf2::Error("no X display (DISPLAY is not set); run under a desktop or xvfb-run -a");
+  }
+  std::unique_ptr<Display, DisplayCloser> display(XOpenDisplay(name));
+  if (!display) throw pf2::Error(std::string("cannot open X display '") + name + "'");
+  return display;
+}
+
+// Renders one frame and writes it as PNG. PCLVisualizer::saveScreenshot needs the interactor,
+// which a one-shot render does not create.
+void saveScreenshot(vtkRenderWindow* window, const std::string& path) {
+  window->Render();
+  auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  std::error_code ignored;
+  fs::remove(path, ignored);
+  auto writer = vtkSmartPointer<vtkPNGWriter>::New();
+  writer->SetFileName(path.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0 || !fs::exists(path) || fs::file_size(path) == 0) {
+    throw pf2::fileError(path, "cannot write the screenshot");
+  }
+}
+
+void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, int camera_every,
+                const fs::path& dir) {
+  const Bounds bounds = boundsOf(run);
+  const double radius = bounds.radius();
+  viewer.setBackgroundColor(0.12, 0.12, 0.14);
+  viewer.setShowFPS(false);
+
+  if (run.has_map) {
+    pcl::PolygonMesh mesh;
+    pf2::toPolygonMesh(run.map, &mesh);
+    viewer.addPolygonMesh(mesh, "map");
+  }
+
+  std::vector<Eigen::Vector3d> centres;
+  for (const pf2::StampedPose& pose : run.trajectory) centres.push_back(pose.T_w_c.translation());
+  if (centres.size() >= 2) addLines(viewer, centres, false, {1.0, 1.0, 1.0}, 2.0, "trajectory");
+  // Frusta sized to the scene, so that they stay visible on a room and on a corridor alike.
+  const double frustum_depth = 0.06 * radius;
+  std::vector<Eigen::Vector3d> frusta;
+  if (camera_every > 0) {
+    for (std::size_t i = camera_every; i < run.trajectory.size(); i += camera_every) {
+      appendFrustum(run.trajectory[i].T_w_c, frustum_depth, &frusta);
+    }
+    if (!frusta.empty()) addLines(viewer, frusta, true, {0.85, 0.85, 0.85}, 1.0, "frusta");
+  }
+  std::vector<Eigen::Vector3d> first;
+  appendFrustum(run.trajectory.front().T_w_c, frustum_depth, &first);
+  addLines(viewer, first, true, {0.2, 1.0, 0.3}, 2.0, "first_camera");
+
+  for (const pf2::HumanTrack& track : run.people) {
+    if (track.points.empty()) continue;
+    const std::string id = "person_" + std::to_string(track.id);
+    const std::array<double, 3> rgb = personColour(track.id);
+    std::vector<Eigen::Vector3d> points;
+    for (const pf2::HumanTrackPoint& p : track.points) points.push_back(p.p_w);
+    if (points.size() >= 2) addLines(viewer, points, false, rgb, 3.0, id);
+    pcl::PointXYZ label;
+    label.getVector3fMap() = points.back().cast<float>();
+    viewer.addText3D(std::to_string(track.id), label, 0.05 * radius, rgb[0], rgb[1], rgb[2], id + "_label");
+  }
+
+  const std::string legend =
+      dir.filename().string() + "   " + std::to_string(run.trajectory.size()) + " poses (white, first green)   " +
+      (run.has_map ? std::to_string(run.map.triangles.size()) + " map triangles" : std::string("no map")) +
+      "   " + std::to_string(run.people.size()) + " people (coloured, id at last position)";
+  viewer.addText(legend, 10, 30, 14, 0.9, 0.9, 0.9, "legend");
+  viewer.addText("r reset view   w/s wireframe/surface   j screenshot   h keys   q quit", 10, 10, 12, 0.7, 0.7,
+                 0.7, "help");
+
+  // Start behind and above the first camera, looking at the middle of everything, with the
+  // first camera's "up" (its -y) as up: a view of the run as the camera first saw it.
+  const Eigen::Isometry3d& T0 = run.trajectory.front().T_w_c;
+  const Eigen::Vector3d forward = T0.linear().col(2), up = -T0.linear().col(1);
+  const Eigen::Vector3d centre = bounds.centre();
+  // resetCamera() then moves along that direction until everything is in view.
+  const Eigen::Vector3d eye = centre + radius * (-1.6 * forward + 1.1 * up);
+  viewer.setCameraPosition(eye.x(), eye.y(), eye.z(), centre.x(), centre.y(), centre.z(), up.x(), up.y(), up.z());
+  viewer.resetCamera();
+}
+
+int run(int argc, char** argv) {
+  pf2::CommandLine cli(argc, argv);
+  if (cli.helpRequested()) {
+    std::cout << kUsage;
+    return 0;
+  }
+  const bool with_map = !cli.flag("--no-map");
+  const auto screenshot = cli.value("--screenshot");
+  const std::array<int, 2> size = parseSize(cli.value("--size", "1280x800"));
+  const int camera_every = cli.integer("--camera-every", 30);
+  if (camera_every < 0) throw pf2::Error("--camera-every: expected N >= 0, got " + std::to_string(camera_every));
+  const auto args = cli.positionals();
+  if (args.size() != 1) {
+    throw pf2::Error("expected one RUN_DIR, got " + std::to_string(args.size()) + " argument(s) (see -h)");
+  }
+  if (screenshot && fs::path(*screenshot).extension() != ".png") {
+    throw pf2::fileError(*screenshot, "--screenshot writes PNG only (name it .png)");
+  }
+
+  // PCL's readers print their own diagnostics; ours already name the file in one line.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  const fs::path dir(args[0]);
+  const RunData data = loadRun(dir, with_map);
+  const auto display = openDisplay();
+
+  pcl::visualization::PCLVisualizer viewer("pf2_view " + dir.string(), !screenshot.has_value());
+  viewer.setSize(size[0], size[1]);
+  buildScene(viewer, data, camera_every, fs::absolute(dir).lexically_normal().parent_path() / dir.filename());
+  if (screenshot) {
+    saveScreenshot(viewer.getRenderWindow(), *screenshot);
+    std::printf("wrote %s (%dx%d)\n", screenshot->c_str(), size[0], size[1]);
+    return 0;
+  }
+  viewer.spin();
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return pf2::runApp("pf2_view", run, argc, argv); }
