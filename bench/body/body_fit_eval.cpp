@@ -3,7 +3,8 @@
 // (gt/joints.txt) projected into the camera (groundtruth.txt pose) through the fitter's COCO table,
 // or from the `learned` detector's MoveNet poses matched to the people by box IoU; the person's
 // depth is the frame's depth under the person's mask (gt/masks, or the detector's mask). Errors in
-// the camera frame: MPJPE over the 24 joints, and after root (pelvis) alignment.
+// the camera frame: MPJPE over the 24 joints, after root (pelvis) alignment, and after a similarity
+// alignment (PA-MPJPE).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <sstream>
 #include <utility>
 
+#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 
 #include "pf2/body/body_fitter.h"
@@ -169,7 +171,7 @@ int run(int argc, char** argv) {
   };
   std::map<int, PreviousFit> previous;  // by person id
   pf2::BodyParameters warm_start;
-  std::vector<double> mpjpe, aligned, fit_ms;
+  std::vector<double> mpjpe, aligned, procrustes, fit_ms;
   std::array<std::vector<double>, pf2::kBodyJointCount> joint_errors;  // mm, per joint
   int person_frames = 0, no_keypoints = 0, invalid = 0, unmatched = 0;
 
@@ -251,6 +253,14 @@ int run(int argc, char** argv) {
         a += ((fit.joints_c[j] - fit.joints_c[0]) - (joints_c[j] - joints_c[0])).norm();
       }
       mpjpe.push_back(1000 * e / pf2::kBodyJointCount);
+      // PA-MPJPE: after the similarity (rotation, translation, scale) that best aligns the fitted
+      // joints to the true ones (Umeyama).
+      Eigen::Matrix<double, 3, pf2::kBodyJointCount> fitted, truth_c;
+      for (int j = 0; j < pf2::kBodyJointCount; ++j) fitted.col(j) = fit.joints_c[j], truth_c.col(j) = joints_c[j];
+      const Eigen::Matrix4d S = Eigen::umeyama(fitted, truth_c, true);
+      const Eigen::Matrix<double, 3, pf2::kBodyJointCount> moved =
+          (S.topLeftCorner<3, 3>() * fitted).colwise() + S.topRightCorner<3, 1>();
+      procrustes.push_back(1000 * (moved - truth_c).colwise().norm().mean());
       aligned.push_back(1000 * a / pf2::kBodyJointCount);
     }
   }
@@ -267,6 +277,7 @@ int run(int argc, char** argv) {
   } else {
     std::printf("MPJPE camera frame: mean %.1f  median %.1f mm\n", mean(mpjpe), median(mpjpe));
     std::printf("MPJPE root-aligned: mean %.1f  median %.1f mm\n", mean(aligned), median(aligned));
+    std::printf("PA-MPJPE (similarity-aligned): mean %.1f  median %.1f mm\n", mean(procrustes), median(procrustes));
     std::printf("per joint, median mm (camera frame):");
     for (int j = 0; j < pf2::kBodyJointCount; ++j) {
       std::printf(" %s %.0f", pf2::kBodyJointNames[j], median(joint_errors[j]));
@@ -277,9 +288,9 @@ int run(int argc, char** argv) {
   if (json) {
     std::printf("{\"person_frames\":%d,\"fitted\":%zu,\"too_few_keypoints\":%d,\"invalid\":%d,\"unmatched\":%d,"
                 "\"mpjpe_mean_mm\":%.2f,\"mpjpe_median_mm\":%.2f,\"aligned_mean_mm\":%.2f,"
-                "\"aligned_median_mm\":%.2f,\"fit_median_ms\":%.3f}\n",
+                "\"aligned_median_mm\":%.2f,\"pa_mean_mm\":%.2f,\"pa_median_mm\":%.2f,\"fit_median_ms\":%.3f}\n",
                 person_frames, mpjpe.size(), no_keypoints, invalid, unmatched, mean(mpjpe), median(mpjpe),
-                mean(aligned), median(aligned), median(fit_ms));
+                mean(aligned), median(aligned), mean(procrustes), median(procrustes), median(fit_ms));
   }
   return 0;
 }
