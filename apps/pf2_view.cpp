@@ -6,9 +6,12 @@
 #include <pcl/point_types.h>
 #include <pcl/visualization/pcl_visualizer.h>
 #include <vtkActor.h>
+#include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkPNGWriter.h>
 #include <vtkPoints.h>
+#include <vtkRendererCollection.h>
+#include <vtkRenderer.h>
 #include <vtkPolyData.h>
 #include <vtkPolyLine.h>
 #include <vtkProperty.h>
@@ -20,6 +23,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -222,8 +226,32 @@ void saveScreenshot(vtkRenderWindow* window, const std::string& path) {
   }
 }
 
+// The run folder's own name for the legend ("view_run" for "out/view_run/" or ".").
+std::string runName(const fs::path& dir) {
+  fs::path path = fs::absolute(dir).lexically_normal();
+  if (path.filename().empty()) path = path.parent_path();
+  return path.filename().string();
+}
+
+// Height of the legend band at the bottom of the window, pixels.
+constexpr int kLegendPixels = 50;
+
+// Distance from `centre` along `back` at which every point lies within tan_h and tan_v of the
+// view axis: a tighter framing than VTK's ResetCamera, which fits the bounding sphere.
+double fitDistance(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centre,
+                   const Eigen::Vector3d& back, const Eigen::Vector3d& up, double tan_h, double tan_v) {
+  const Eigen::Vector3d right = up.cross(back).normalized(), true_up = back.cross(right);
+  double distance = 1e-3;
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d d = p - centre;
+    const double toward = d.dot(back);  // how much nearer to the camera than the centre
+    distance = std::max({distance, toward + std::abs(d.dot(right)) / tan_h, toward + std::abs(d.dot(true_up)) / tan_v});
+  }
+  return distance;
+}
+
 void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, int camera_every,
-                const fs::path& dir) {
+                const std::string& name, int width, int height) {
   const Bounds bounds = boundsOf(run);
   const double radius = bounds.radius();
   viewer.setBackgroundColor(0.12, 0.12, 0.14);
@@ -264,7 +292,7 @@ void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, i
   }
 
   const std::string legend =
-      dir.filename().string() + "   " + std::to_string(run.trajectory.size()) + " poses (white, first green)   " +
+      name + "   " + std::to_string(run.trajectory.size()) + " poses (white, first green)   " +
       (run.has_map ? std::to_string(run.map.triangles.size()) + " map triangles" : std::string("no map")) +
       "   " + std::to_string(run.people.size()) + " people (coloured, id at last position)";
   viewer.addText(legend, 10, 30, 14, 0.9, 0.9, 0.9, "legend");
@@ -274,12 +302,29 @@ void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, i
   // Start behind and above the first camera, looking at the middle of everything, with the
   // first camera's "up" (its -y) as up: a view of the run as the camera first saw it.
   const Eigen::Isometry3d& T0 = run.trajectory.front().T_w_c;
-  const Eigen::Vector3d forward = T0.linear().col(2), up = -T0.linear().col(1);
+  const Eigen::Vector3d up = -T0.linear().col(1);
+  const Eigen::Vector3d back = (-1.6 * T0.linear().col(2) + 1.1 * up).normalized();
   const Eigen::Vector3d centre = bounds.centre();
-  // resetCamera() then moves along that direction until everything is in view.
-  const Eigen::Vector3d eye = centre + radius * (-1.6 * forward + 1.1 * up);
+  std::vector<Eigen::Vector3d> shown = centres;
+  shown.insert(shown.end(), frusta.begin(), frusta.end());
+  for (const pf2::HumanTrack& track : run.people) {
+    for (const pf2::HumanTrackPoint& p : track.points) shown.push_back(p.p_w);
+  }
+  if (run.has_map) {
+    // Every vertex of a large map is not needed to frame it; about 100k spread over it are.
+    const std::size_t stride = 1 + run.map.vertices.size() / 100000;
+    for (std::size_t i = 0; i < run.map.vertices.size(); i += stride) shown.push_back(run.map.vertices[i].cast<double>());
+  }
+  // VTK's default 30 degree vertical view angle, a 10 % margin, and the bottom kLegendPixels
+  // kept for the legend: the view is fitted to the rest and shifted up into it.
+  const double usable = static_cast<double>(height - kLegendPixels) / height;
+  const double tan_v = 0.9 * std::tan(0.5 * 30.0 * M_PI / 180.0);
+  const double distance =
+      fitDistance(shown, centre, back, up, tan_v * static_cast<double>(width) / height, tan_v * usable);
+  const Eigen::Vector3d eye = centre + distance * back;
   viewer.setCameraPosition(eye.x(), eye.y(), eye.z(), centre.x(), centre.y(), centre.z(), up.x(), up.y(), up.z());
-  viewer.resetCamera();
+  viewer.getRendererCollection()->GetFirstRenderer()->GetActiveCamera()->SetWindowCenter(0.0, usable - 1.0);
+  viewer.setCameraClipDistances(0.01 * distance, distance + 4.0 * radius);
 }
 
 int run(int argc, char** argv) {
@@ -309,7 +354,7 @@ int run(int argc, char** argv) {
 
   pcl::visualization::PCLVisualizer viewer("pf2_view " + dir.string(), !screenshot.has_value());
   viewer.setSize(size[0], size[1]);
-  buildScene(viewer, data, camera_every, fs::absolute(dir).lexically_normal().parent_path() / dir.filename());
+  buildScene(viewer, data, camera_every, runName(dir), size[0], size[1]);
   if (screenshot) {
     saveScreenshot(viewer.getRenderWindow(), *screenshot);
     std::printf("wrote %s (%dx%d)\n", screenshot->c_str(), size[0], size[1]);
