@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libzip-dev zlib1g-dev nlohmann-json3-dev
   python3 python3-numpy
+  xvfb xauth
 )
 
 SUDO=""
