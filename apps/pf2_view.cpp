@@ -112,25 +112,32 @@ std::array<int, 2> parseSize(const std::string& text) {
   return {w, h};
 }
 
-// Axis-aligned bounds of everything drawn, for the initial camera and the size of glyphs.
+// Axis-aligned bounds of the points shown, for the view's centre and the size of glyphs.
 struct Bounds {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
-  void add(const Eigen::Vector3d& p) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
+  explicit Bounds(const std::vector<Eigen::Vector3d>& points) {
+    for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
   Eigen::Vector3d centre() const { return 0.5 * (lo + hi); }
   // Half the diagonal, at least 0.5 m so that a single pose still gets a sensible view.
   double radius() const { return std::max(0.5, 0.5 * (hi - lo).norm()); }
 };
 
-Bounds boundsOf(const RunData& run) {
-  Bounds b;
-  for (const pf2::StampedPose& pose : run.trajectory) b.add(pose.T_w_c.translation());
+// Camera centres, track points and (a sample of) the map's vertices: what the view must frame.
+std::vector<Eigen::Vector3d> pointsToFrame(const RunData& run) {
+  std::vector<Eigen::Vector3d> points;
+  for (const pf2::StampedPose& pose : run.trajectory) points.push_back(pose.T_w_c.translation());
   for (const pf2::HumanTrack& track : run.people) {
-    for (const pf2::HumanTrackPoint& point : track.points) b.add(point.p_w);
+    for (const pf2::HumanTrackPoint& p : track.points) points.push_back(p.p_w);
   }
   if (run.has_map) {
-    for (const Eigen::Vector3f& v : run.map.vertices) b.add(v.cast<double>());
+    // Every vertex of a large map is not needed to frame it; about 100k spread over it are.
+    const std::size_t stride = 1 + run.map.vertices.size() / 100000;
+    for (std::size_t i = 0; i < run.map.vertices.size(); i += stride) {
+      points.push_back(run.map.vertices[i].cast<double>());
+    }
   }
-  return b;
+  return points;
 }
 
 // A polyline through points, or separate segments (pairs of points) when `segments` is set.
@@ -252,7 +259,8 @@ double fitDistance(const std::vector<Eigen::Vector3d>& points, const Eigen::Vect
 
 void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, int camera_every,
                 const std::string& name, int width, int height) {
-  const Bounds bounds = boundsOf(run);
+  std::vector<Eigen::Vector3d> shown = pointsToFrame(run);
+  const Bounds bounds(shown);
   const double radius = bounds.radius();
   viewer.setBackgroundColor(0.12, 0.12, 0.14);
   viewer.setShowFPS(false);
@@ -305,16 +313,8 @@ void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, i
   const Eigen::Vector3d up = -T0.linear().col(1);
   const Eigen::Vector3d back = (-1.6 * T0.linear().col(2) + 1.1 * up).normalized();
   const Eigen::Vector3d centre = bounds.centre();
-  std::vector<Eigen::Vector3d> shown = centres;
   shown.insert(shown.end(), frusta.begin(), frusta.end());
-  for (const pf2::HumanTrack& track : run.people) {
-    for (const pf2::HumanTrackPoint& p : track.points) shown.push_back(p.p_w);
-  }
-  if (run.has_map) {
-    // Every vertex of a large map is not needed to frame it; about 100k spread over it are.
-    const std::size_t stride = 1 + run.map.vertices.size() / 100000;
-    for (std::size_t i = 0; i < run.map.vertices.size(); i += stride) shown.push_back(run.map.vertices[i].cast<double>());
-  }
+  shown.insert(shown.end(), first.begin(), first.end());
   // VTK's default 30 degree vertical view angle, a 10 % margin, and the bottom kLegendPixels
   // kept for the legend: the view is fitted to the rest and shifted up into it.
   const double usable = static_cast<double>(height - kLegendPixels) / height;
