@@ -353,6 +353,8 @@ int run(int argc, char** argv) {
   const auto display = openDisplay();
 
   pcl::visualization::PCLVisualizer viewer("pf2_view " + dir.string(), !screenshot.has_value());
+  // A screenshot is rendered into an off-screen buffer: no window flashes up on a desktop.
+  if (screenshot) viewer.getRenderWindow()->SetOffScreenRendering(1);
   viewer.setSize(size[0], size[1]);
   buildScene(viewer, data, camera_every, runName(dir), size[0], size[1]);
   if (screenshot) {
