@@ -345,6 +345,10 @@ int run(int argc, char** argv) {
   if (screenshot && fs::path(*screenshot).extension() != ".png") {
     throw pf2::fileError(*screenshot, "--screenshot writes PNG only (name it .png)");
   }
+  // Checked now rather than after VTK's writer has printed its own complaints.
+  if (screenshot && !fs::is_directory(fs::absolute(*screenshot).parent_path())) {
+    throw pf2::fileError(*screenshot, "no such folder for the screenshot");
+  }
 
   // PCL's readers print their own diagnostics; ours already name the file in one line.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);

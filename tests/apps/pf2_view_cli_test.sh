@@ -63,6 +63,7 @@ printf '0.0 1 0.5 zero 2\n' > "$broken/humans.txt"
 expect_error "humans.txt:1:" "$view" "$broken"
 expect_error "--size" "$view" "$run" --size 12
 expect_error "DISPLAY" env -u DISPLAY "$view" "$run" --screenshot "$work/x.png"
+expect_error "no_such_folder/x.png" "$view" "$run" --screenshot "$work/no_such_folder/x.png"
 
 # Missing optional files are notes, not errors (checked up to the display, which is absent here).
 sparse="$work/sparse"
