@@ -559,33 +559,20 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
         const cv::Rect full_area = cv::Rect(2 * area.x, 2 * area.y, 2 * area.width, 2 * area.height) &
                                    cv::Rect(0, 0, size.width, size.height);
         guarded_area = full_area;
-        // Each cell's range spread over its two columns, once per pair of rows, so that the
-        // per-pixel test is a branch-free loop.
-        const int x0 = full_area.x, width = full_area.width;
-        std::vector<float> low_row(width), high_row(width);
-        std::vector<uint8_t> age_row(width);
         for (int v = full_area.y; v < full_area.y + full_area.height; ++v) {
-          if (v == full_area.y || v % 2 == 0) {
-            const float* low = guard_low_.ptr<float>(v / 2);
-            const float* high = guard_high_.ptr<float>(v / 2);
-            const uint8_t* yo = youngest_.ptr<uint8_t>(v / 2);
-            for (int i = 0; i < width; ++i) {
-              const int c = (x0 + i) / 2;
-              low_row[i] = low[c];
-              high_row[i] = high[c];
-              age_row[i] = static_cast<uint8_t>(yo[c] + 1);
+          const float* d = depth.ptr<float>(v);
+          const float* low = guard_low_.ptr<float>(v / 2);
+          const float* high = guard_high_.ptr<float>(v / 2);
+          const uint8_t* yo = youngest_.ptr<uint8_t>(v / 2);
+          uint8_t* s = state.ptr<uint8_t>(v);
+          uint8_t* ag = age.ptr<uint8_t>(v);
+          // Most pixels are kept and unguarded: the early exits beat a branch-free form here.
+          for (int u = full_area.x, u_end = full_area.x + full_area.width; u < u_end; ++u) {
+            const int c = u / 2;
+            if (s[u] == kKept && d[u] > 0.f && d[u] > low[c] && d[u] < high[c]) {
+              s[u] = kRemoved;
+              ag[u] = static_cast<uint8_t>(yo[c] + 1);
             }
-          }
-          const float* __restrict d = depth.ptr<float>(v) + x0;
-          const float* __restrict lo = low_row.data();
-          const float* __restrict hi = high_row.data();
-          const uint8_t* __restrict next_age = age_row.data();
-          uint8_t* __restrict s = state.ptr<uint8_t>(v) + x0;
-          uint8_t* __restrict ag = age.ptr<uint8_t>(v) + x0;
-          for (int i = 0; i < width; ++i) {
-            const bool hit = (s[i] == kKept) & (d[i] > 0.f) & (d[i] > lo[i]) & (d[i] < hi[i]);
-            s[i] = hit ? kRemoved : s[i];
-            ag[i] = hit ? next_age[i] : ag[i];
           }
         }
       }
