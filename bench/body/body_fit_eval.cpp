@@ -22,6 +22,7 @@
 #include "pf2/core/error.h"
 #include "pf2/core/text_lines.h"
 #include "pf2/detection/detector_factory.h"
+#include "pf2/detection/gt_detector.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/io/tum_sequence.h"
 
@@ -59,24 +60,10 @@ std::map<Key, Joints> readJoints(const std::string& path) {
   return joints;
 }
 
-struct GtBox {
-  int id;
-  cv::Rect2d box;
-  double visible;
-};
-
-std::map<long long, std::vector<GtBox>> readBoxes(const std::string& path) {
-  std::map<long long, std::vector<GtBox>> boxes;
-  pf2::forEachDataLine(path, "boxes file", [&](const std::string& line, int number) {
-    std::istringstream fields(line);
-    double stamp = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0, visible = 0;
-    int id = 0;
-    if (!(fields >> stamp >> id >> x0 >> y0 >> x1 >> y1 >> visible)) {
-      throw pf2::fileError(path, number, "expected 'timestamp id x_ul y_ul x_lr y_lr visible_fraction'");
-    }
-    // Inclusive pixel corners -> a box one pixel larger.
-    boxes[micros(stamp)].push_back({id, cv::Rect2d(x0, y0, x1 - x0 + 1, y1 - y0 + 1), visible});
-  });
+// The people in view of each frame (gt/boxes.txt), by timestamp in microseconds.
+std::map<long long, std::vector<pf2::GroundTruthBox>> readBoxes(const std::string& path) {
+  std::map<long long, std::vector<pf2::GroundTruthBox>> boxes;
+  for (const pf2::GroundTruthBox& b : pf2::readGroundTruthBoxes(path)) boxes[micros(b.timestamp)].push_back(b);
   return boxes;
 }
 
@@ -194,8 +181,8 @@ int run(int argc, char** argv) {
     if (detector) detections = detector->detect(frame);
     std::vector<bool> taken(detections.people.size(), false);
 
-    for (const GtBox& person : in_view->second) {
-      if (person.visible < min_visible) continue;
+    for (const pf2::GroundTruthBox& person : in_view->second) {
+      if (person.visible_fraction < min_visible) continue;
       const auto truth = joints_w.find({micros(stamp), person.id});
       if (truth == joints_w.end()) throw pf2::fileError(folder + "/gt/joints.txt", "no joints for a person in view");
       ++person_frames;
@@ -212,7 +199,8 @@ int run(int argc, char** argv) {
         double best_iou = 0.3;
         for (std::size_t d = 0; d < detections.people.size(); ++d) {
           const pf2::PersonBox& b = detections.people[d].box;
-          const double o = iou(person.box, cv::Rect2d(b.x_ul, b.y_ul, b.width(), b.height()));
+          const double o = iou(cv::Rect2d(person.box.x_ul, person.box.y_ul, person.box.width(), person.box.height()),
+                               cv::Rect2d(b.x_ul, b.y_ul, b.width(), b.height()));
           if (!taken[d] && o >= best_iou && detections.people[d].keypoints.size() == pf2::kCocoKeypointCount) {
             best = static_cast<int>(d), best_iou = o;
           }

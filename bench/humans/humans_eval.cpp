@@ -8,12 +8,11 @@
 #include <map>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <utility>
 
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
-#include "pf2/core/text_lines.h"
+#include "pf2/detection/gt_detector.h"
 #include "pf2/eval/human_metrics.h"
 #include "pf2/humans/human_track.h"
 #include "pf2/humans/human_tracker.h"
@@ -47,15 +46,9 @@ std::vector<pf2::HumanTrack> reassociate(const std::vector<pf2::HumanTrack>& tra
 // (timestamp, id) of each person in view, from gt/boxes.txt.
 std::set<std::pair<double, int>> peopleInView(const std::string& path, double min_visible) {
   std::set<std::pair<double, int>> in_view;
-  pf2::forEachDataLine(path, "boxes file", [&](const std::string& line, int number) {
-    std::istringstream fields(line);
-    double stamp = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0, visible = 0;
-    int id = 0;
-    if (!(fields >> stamp >> id >> x0 >> y0 >> x1 >> y1 >> visible)) {
-      throw pf2::fileError(path, number, "expected 'timestamp id x_ul y_ul x_lr y_lr visible_fraction'");
-    }
-    if (visible >= min_visible) in_view.insert({stamp, id});
-  });
+  for (const pf2::GroundTruthBox& b : pf2::readGroundTruthBoxes(path)) {
+    if (b.visible_fraction >= min_visible) in_view.insert({b.timestamp, b.id});
+  }
   return in_view;
 }
 

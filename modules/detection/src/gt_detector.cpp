@@ -12,30 +12,36 @@
 
 namespace pf2 {
 
-GtDetector::GtDetector(const Options& options) : options_(options) {
-  const std::string path = options.gt_folder + "/boxes.txt";
+std::vector<GroundTruthBox> readGroundTruthBoxes(const std::string& path) {
+  std::vector<GroundTruthBox> boxes;
   forEachDataLine(path, "ground-truth boxes (is this a pf2_synth sequence?)", [&](const std::string& line,
                                                                                   int number) {
     std::istringstream fields(line);
-    double stamp = 0, visible = 0;
-    Entry e;
-    if (!(fields >> stamp >> e.id >> e.box.x_ul >> e.box.y_ul >> e.box.x_lr >> e.box.y_lr >> visible)) {
+    GroundTruthBox e;
+    PersonBox& b = e.box;
+    if (!(fields >> e.timestamp >> e.id >> b.x_ul >> b.y_ul >> b.x_lr >> b.y_lr >> e.visible_fraction)) {
       throw fileError(path, number, "expected 'timestamp id x_ul y_ul x_lr y_lr visible_fraction'");
     }
-    if (!std::isfinite(stamp) || !std::isfinite(e.box.x_ul) || !std::isfinite(e.box.y_ul) ||
-        !std::isfinite(e.box.x_lr) || !std::isfinite(e.box.y_lr) || !std::isfinite(visible)) {
+    if (!std::isfinite(e.timestamp) || !std::isfinite(b.x_ul) || !std::isfinite(b.y_ul) ||
+        !std::isfinite(b.x_lr) || !std::isfinite(b.y_lr) || !std::isfinite(e.visible_fraction)) {
       throw fileError(path, number, "non-finite number");
     }
-    if (e.box.x_lr < e.box.x_ul || e.box.y_lr < e.box.y_ul) {
+    if (b.x_lr < b.x_ul || b.y_lr < b.y_ul) {
       throw fileError(path, number, "box corners out of order (x_lr < x_ul or y_lr < y_ul)");
     }
     // pf2_synth's corners are inclusive (the last pixel of the mask); PersonBox's lower right is
     // exclusive like cv::Rect.
-    e.box.x_lr += 1;
-    e.box.y_lr += 1;
-    e.visible_fraction = visible;
-    boxes_[stamp].push_back(e);
+    b.x_lr += 1;
+    b.y_lr += 1;
+    boxes.push_back(e);
   });
+  return boxes;
+}
+
+GtDetector::GtDetector(const Options& options) : options_(options) {
+  for (const GroundTruthBox& b : readGroundTruthBoxes(options.gt_folder + "/boxes.txt")) {
+    boxes_[b.timestamp].push_back(b);
+  }
   if (options.provide_mask) {
     const std::string masks = options.gt_folder + "/masks";
     std::error_code error;
@@ -54,7 +60,7 @@ GtDetector::GtDetector(const Options& options) : options_(options) {
 Detections GtDetector::detect(const Frame& frame) {
   Detections detections;
   detections.timestamp = frame.timestamp;
-  const std::vector<Entry>* entries = nearestStamp(boxes_, frame.timestamp, options_.max_time_difference);
+  const std::vector<GroundTruthBox>* entries = nearestStamp(boxes_, frame.timestamp, options_.max_time_difference);
   cv::Mat ids;
   if (entries && options_.provide_mask) {
     const std::string* file = nearestStamp(mask_files_, frame.timestamp, options_.max_time_difference);
@@ -68,7 +74,7 @@ Detections GtDetector::detect(const Frame& frame) {
     }
   }
   if (entries) {
-    for (const Entry& e : *entries) {
+    for (const GroundTruthBox& e : *entries) {
       if (e.visible_fraction < options_.min_visible_fraction) continue;
       PersonDetection person;
       person.box = e.box;

@@ -11,6 +11,19 @@
 
 namespace pf2 {
 
+// One line of pf2_synth's gt/boxes.txt: a person in view of one frame.
+struct GroundTruthBox {
+  double timestamp = 0;
+  int id = 0;
+  PersonBox box;                  // exclusive lower right: the file's inclusive corners + 1
+  double visible_fraction = 1.0;  // 0..1
+};
+
+// Reads gt/boxes.txt (`timestamp id x_ul y_ul x_lr y_lr visible_fraction` lines, `#` comments).
+// Throws pf2::Error "file:line: ..." on a malformed, non-finite or out-of-order line, naming the
+// file when it is missing. Thread safe.
+std::vector<GroundTruthBox> readGroundTruthBoxes(const std::string& path);
+
 class GtDetector : public HumanDetector {
  public:
   struct Options {
@@ -33,13 +46,8 @@ class GtDetector : public HumanDetector {
   Detections detect(const Frame& frame) override;
 
  private:
-  struct Entry {
-    int id = 0;
-    PersonBox box;
-    double visible_fraction = 1.0;
-  };
   Options options_;
-  std::map<double, std::vector<Entry>> boxes_;  // by timestamp
+  std::map<double, std::vector<GroundTruthBox>> boxes_;  // by timestamp
   std::map<double, std::string> mask_files_;    // by timestamp
 };
 
