@@ -36,6 +36,7 @@ const char* kUsage =
     "  --frames N           process only the first N frames\n"
     "  --no-map             track only; no TSDF/OctoMap\n"
     "  --pcd                also write map.pcd (the mesh vertices as coloured points)\n"
+    "  --obj                also write map.obj (the mesh as Wavefront OBJ with vertex colours)\n"
     "  --calibration FILE   camera calibration file (default: camera.txt in the folder or TUM preset)\n"
     "  --associations FILE  rgb/depth associations instead of matching rgb.txt and depth.txt\n"
     "  --depth-scale S      depth PNG units per metre (default 5000)\n"
@@ -83,6 +84,7 @@ int run(int argc, char** argv) {
   options.max_frames = cli.integer("--frames", options.max_frames);
   if (cli.flag("--no-map")) options.build_map = false;
   if (cli.flag("--pcd")) options.map_files.points_pcd = true;
+  if (cli.flag("--obj")) options.map_files.mesh_obj = true;
   if (cli.flag("--quiet")) options.progress = false;
   std::optional<std::string> eval_path = cli.value("--eval");
   const std::string distortion = cli.value("--distortion", "auto");
@@ -143,8 +145,13 @@ int run(int argc, char** argv) {
       std::printf("rpe.rmse    unavailable (%s)\n", e.what());
     }
   }
-  std::printf("output      %s/trajectory.txt, stats.json%s%s\n", out_dir.c_str(),
-              options.build_map ? ", map.ply, map.bt, map.ot" : "",
+  std::string map_files;
+  if (options.build_map) {
+    map_files = ", map.ply, map.bt, map.ot";
+    if (options.map_files.points_pcd) map_files += ", map.pcd";
+    if (options.map_files.mesh_obj) map_files += ", map.obj";
+  }
+  std::printf("output      %s/trajectory.txt, stats.json%s%s\n", out_dir.c_str(), map_files.c_str(),
               options.track_humans && s.detector != "none" ? ", humans.txt" : "");
   return 0;
 }

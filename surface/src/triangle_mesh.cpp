@@ -6,6 +6,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 
@@ -52,6 +53,32 @@ void saveMeshPly(const TriangleMesh& mesh, const std::string& path) {
       std::memcpy(p + 1, mesh.triangles[i].data(), 12);
     }
     out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  });
+}
+
+void saveMeshObj(const TriangleMesh& mesh, const std::string& path) {
+  const bool coloured = !mesh.colors.empty();
+  if (coloured && mesh.colors.size() != mesh.vertices.size()) {
+    throw fileError(path, "mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
+                              std::to_string(mesh.vertices.size()) + " vertices");
+  }
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "# PoseFusion2 static map, metres, world frame\n";
+    char line[128];
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const Eigen::Vector3f& v = mesh.vertices[i];
+      int n = std::snprintf(line, sizeof(line), "v %.6g %.6g %.6g", v.x(), v.y(), v.z());
+      if (coloured) {
+        const auto& c = mesh.colors[i];
+        n += std::snprintf(line + n, sizeof(line) - n, " %.4g %.4g %.4g", c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+      }
+      out.write(line, n);
+      out.put('\n');
+    }
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      const int n = std::snprintf(line, sizeof(line), "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1);
+      out.write(line, n);
+    }
   });
 }
 

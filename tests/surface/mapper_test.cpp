@@ -4,13 +4,17 @@
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
 #include <pcl/PolygonMesh.h>
+#include <pcl/io/obj_io.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
+#include <string>
 
 #include "analytic_scene.h"
 #include "pf2/core/error.h"
@@ -145,6 +149,7 @@ TEST(Mapper, ExportedFilesReadBackWithPclAndOctomap) {
   const std::string dir = freshDirectory("export");
   Mapper::ExportOptions all;
   all.points_pcd = true;
+  all.mesh_obj = true;
   mapper.exportMap(dir, all);
   const TriangleMesh mesh = mapper.extractMesh();
 
@@ -161,6 +166,29 @@ TEST(Mapper, ExportedFilesReadBackWithPclAndOctomap) {
   }
   const TriangleMesh reloaded = loadMeshPly(dir + "/map.ply");
   EXPECT_NEAR(reloaded.area(), mesh.area(), 1e-6 * mesh.area());
+
+  // The OBJ: one `v x y z r g b` line per vertex (colour 0..1) and one 1-based `f` per triangle.
+  pcl::PolygonMesh obj;
+  ASSERT_EQ(pcl::io::loadOBJFile(dir + "/map.obj", obj), 0);
+  ASSERT_EQ(obj.polygons.size(), mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); i += 101) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(obj.polygons[i].vertices[k], static_cast<std::uint32_t>(mesh.triangles[i][k]));
+  }
+  pcl::PointCloud<pcl::PointXYZ> obj_points;
+  pcl::fromPCLPointCloud2(obj.cloud, obj_points);
+  ASSERT_EQ(obj_points.size(), mesh.vertices.size());
+  for (std::size_t i = 0; i < obj_points.size(); i += 97) {
+    EXPECT_LT((obj_points[i].getVector3fMap() - mesh.vertices[i]).norm(), 1e-5f);
+  }
+  std::ifstream obj_text(dir + "/map.obj");
+  std::string line;
+  while (std::getline(obj_text, line) && line.rfind("v ", 0) != 0) {
+  }
+  std::istringstream first_vertex(line.substr(2));
+  float x = 0, y = 0, z = 0, r = 0, g = 0, b = 0;
+  ASSERT_TRUE(static_cast<bool>(first_vertex >> x >> y >> z >> r >> g >> b)) << line;
+  EXPECT_NEAR(r, mesh.colors[0][0] / 255.0f, 1e-3f);
+  EXPECT_NEAR(b, mesh.colors[0][2] / 255.0f, 1e-3f);
 
   octomap::OcTree tree(0.1);
   ASSERT_TRUE(tree.readBinary(dir + "/map.bt"));
@@ -186,13 +214,13 @@ TEST(Mapper, ExportedFilesReadBackWithPclAndOctomap) {
   ASSERT_EQ(pcl::io::loadPCDFile(dir + "/map.pcd", pcd), 0);
   EXPECT_EQ(pcd.size(), mesh.vertices.size());
 
-  // Nothing but the four files: no temporary left behind.
+  // Nothing but the five files: no temporary left behind.
   int files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     ++files;
     EXPECT_EQ(entry.path().stem().string(), "map") << entry.path();
   }
-  EXPECT_EQ(files, 4);
+  EXPECT_EQ(files, 5);
 }
 
 TEST(Mapper, UnwritableOutputNamesTheFile) {

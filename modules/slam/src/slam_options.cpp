@@ -80,6 +80,7 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   m.max_stored_keyframes = config.integer("map.max_stored_keyframes", m.max_stored_keyframes);
   m.keep_radius = config.number("map.keep_radius", m.keep_radius);
   o.map_files.points_pcd = config.boolean("map.pcd", o.map_files.points_pcd);
+  o.map_files.mesh_obj = config.boolean("map.obj", o.map_files.mesh_obj);
 
   o.max_frames = config.integer("run.max_frames", o.max_frames);
   o.prefetch_frames = config.integer("run.prefetch_frames", o.prefetch_frames);

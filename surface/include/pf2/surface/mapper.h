@@ -45,6 +45,7 @@ class Mapper {
     bool octomap_bt = true;      // map.bt: occupancy tree (needs build_occupancy)
     bool octomap_ot = true;      // map.ot: occupancy tree with colour (needs build_occupancy)
     bool points_pcd = false;     // map.pcd: the mesh's vertices as coloured points
+    bool mesh_obj = false;       // map.obj: the mesh as Wavefront OBJ (vertex colours)
   };
 
   Mapper() : Mapper(Options()) {}

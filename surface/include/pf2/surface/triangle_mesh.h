@@ -1,6 +1,6 @@
 #pragma once
 // The static map's surface as a plain triangle mesh, and its files: PLY (binary, vertex colours)
-// written atomically, read back through PCL; conversion to pcl::PolygonMesh for PCL users.
+// and OBJ written atomically, PLY read back through PCL; conversion to pcl::PolygonMesh for PCL users.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -27,6 +27,10 @@ struct TriangleMesh {
 // Binary little-endian PLY with float x y z, uchar red green blue (when colours exist) and
 // triangle faces. Written to a temporary name and renamed. Throws pf2::Error naming the path.
 void saveMeshPly(const TriangleMesh& mesh, const std::string& path);
+// Wavefront OBJ (ASCII): `v x y z` lines, with colour as `v x y z r g b` (0..1, the extension
+// MeshLab and Blender read) when colours exist, then 1-based `f a b c` faces. For tools that take
+// OBJ but not PLY. Written to a temporary name and renamed. Throws pf2::Error naming the path.
+void saveMeshObj(const TriangleMesh& mesh, const std::string& path);
 // Reads any PLY triangle mesh PCL reads (ASCII or binary; polygons are fanned into triangles).
 // Throws pf2::Error naming the path when it cannot be read or holds no vertices.
 TriangleMesh loadMeshPly(const std::string& path);
