@@ -146,6 +146,7 @@ void findOccludedIntervals(const cv::Mat& depth, const std::vector<FilterBox>& b
                            float margin, const std::vector<DepthInterval>& intervals,
                            std::vector<DepthInterval>* second_intervals) {
   second_intervals->assign(boxes.size(), DepthInterval());
+  cv::Mat others;  // 255 where a box's depth is not the person found twice; written per box on its rect
   for (size_t t = 0; t < boxes.size(); ++t) {
     if (!boxes[t].mask.empty()) continue;
     for (size_t s = 0; s < boxes.size() && !(*second_intervals)[t].valid; ++s) {
@@ -157,11 +158,12 @@ void findOccludedIntervals(const cv::Mat& depth, const std::vector<FilterBox>& b
         continue;  // the person is this box's
       }
       const cv::Rect& r = boxes[t].rect;
-      cv::Mat others = cv::Mat::zeros(depth.size(), CV_8U);
+      // principalInterval reads the mask inside r only, so only r is written (no full-image clear).
+      if (others.empty()) others.create(depth.size(), CV_8U);
+      const DepthRange found(theirs, margin);
       for (int v = r.y; v < r.y + r.height; ++v) {
         const float* d = depth.ptr<float>(v);
         uint8_t* m = others.ptr<uint8_t>(v);
-        const DepthRange found(theirs, margin);
         for (int u = r.x, u_end = r.x + r.width; u < u_end; ++u) m[u] = found.contains(d[u]) ? 0 : 255;
       }
       (*second_intervals)[t] = principalInterval(depth, others, r, histogram, boxes[t].surround);

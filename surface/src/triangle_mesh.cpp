@@ -25,12 +25,23 @@ double TriangleMesh::area() const {
   return total;
 }
 
-void saveMeshPly(const TriangleMesh& mesh, const std::string& path) {
-  const bool coloured = !mesh.colors.empty();
-  if (coloured && mesh.colors.size() != mesh.vertices.size()) {
+namespace {
+
+// True when the mesh has one colour per vertex, false when it has none; throws pf2::Error naming
+// the path on any other count.
+bool hasVertexColours(const TriangleMesh& mesh, const std::string& path) {
+  if (mesh.colors.empty()) return false;
+  if (mesh.colors.size() != mesh.vertices.size()) {
     throw fileError(path, "mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
                               std::to_string(mesh.vertices.size()) + " vertices");
   }
+  return true;
+}
+
+}  // namespace
+
+void saveMeshPly(const TriangleMesh& mesh, const std::string& path) {
+  const bool coloured = hasVertexColours(mesh, path);
   writeFileAtomically(path, [&](std::ostream& out) {
     out << "ply\nformat binary_little_endian 1.0\ncomment PoseFusion2 static map, metres, world frame\n"
         << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n";
@@ -57,11 +68,7 @@ void saveMeshPly(const TriangleMesh& mesh, const std::string& path) {
 }
 
 void saveMeshObj(const TriangleMesh& mesh, const std::string& path) {
-  const bool coloured = !mesh.colors.empty();
-  if (coloured && mesh.colors.size() != mesh.vertices.size()) {
-    throw fileError(path, "mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
-                              std::to_string(mesh.vertices.size()) + " vertices");
-  }
+  const bool coloured = hasVertexColours(mesh, path);
   writeFileAtomically(path, [&](std::ostream& out) {
     out << "# PoseFusion2 static map, metres, world frame\n";
     char line[128];
