@@ -19,6 +19,22 @@ TEST(CameraIntrinsics, PresetsAreTheBenchmarkValues) {
   EXPECT_THROW(CameraIntrinsics::preset("fr4"), Error);
 }
 
+TEST(CameraIntrinsics, BonnPresetIsTheDatasetsValues) {
+  const CameraIntrinsics bonn = CameraIntrinsics::preset("bonn");
+  EXPECT_DOUBLE_EQ(bonn.fx, 542.822841);
+  EXPECT_DOUBLE_EQ(bonn.fy, 542.576870);
+  EXPECT_DOUBLE_EQ(bonn.cx, 315.593520);
+  EXPECT_DOUBLE_EQ(bonn.cy, 237.756098);
+  EXPECT_EQ(bonn.width, 640);
+  EXPECT_EQ(bonn.height, 480);
+  try {
+    CameraIntrinsics::preset("fr4");
+    FAIL() << "unknown preset accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bonn"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CameraIntrinsics, ProjectInvertsBackProject) {
   const CameraIntrinsics k = CameraIntrinsics::tumFreiburg3();
   const Eigen::Vector3d p = k.backProject(100.5, 400.25, 2.5);

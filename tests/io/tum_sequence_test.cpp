@@ -62,6 +62,23 @@ TEST(TumSequence, FolderNameSelectsPreset) {
   EXPECT_DOUBLE_EQ(TumSequence(dir).intrinsics().fx, 517.3);
 }
 
+TEST(TumSequence, BonnFolderWithoutCalibrationUsesBonnPreset) {
+  // As published: no camera.txt (removed in case an earlier run of this test left one).
+  const std::string dir = makeSequence("rgbd_bonn_xxx");
+  std::remove((dir + "/camera.txt").c_str());
+  const CameraIntrinsics k = TumSequence(dir + "/").intrinsics();
+  EXPECT_DOUBLE_EQ(k.fx, 542.822841);
+  EXPECT_DOUBLE_EQ(k.fy, 542.576870);
+  EXPECT_DOUBLE_EQ(k.cx, 315.593520);
+  EXPECT_DOUBLE_EQ(k.cy, 237.756098);
+  EXPECT_TRUE(isBonnDynamicFolder(dir));
+  EXPECT_FALSE(isBonnDynamicFolder(testing::TempDir() + "my_rgbd_bonn_copy"));
+  // A camera.txt in the folder still wins over the preset.
+  std::ofstream(dir + "/camera.txt") << "fx 500\nfy 501\ncx 319.5\ncy 239.5\nwidth 640\nheight 480\n";
+  EXPECT_DOUBLE_EQ(TumSequence(dir).intrinsics().fx, 500.0);
+  std::remove((dir + "/camera.txt").c_str());
+}
+
 TEST(TumSequence, MissingPiecesAreNamed) {
   const std::string dir = makeSequence("pf2_seq_broken");
   // Missing image: the error names it.

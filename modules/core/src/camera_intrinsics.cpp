@@ -26,12 +26,16 @@ CameraIntrinsics make(double fx, double fy, double cx, double cy) {
 CameraIntrinsics CameraIntrinsics::tumFreiburg1() { return make(517.3, 516.5, 318.6, 255.3); }
 CameraIntrinsics CameraIntrinsics::tumFreiburg2() { return make(520.9, 521.0, 325.1, 249.7); }
 CameraIntrinsics CameraIntrinsics::tumFreiburg3() { return make(535.4, 539.2, 320.1, 247.6); }
+CameraIntrinsics CameraIntrinsics::bonnDynamic() {
+  return make(542.822841, 542.576870, 315.593520, 237.756098);
+}
 
 CameraIntrinsics CameraIntrinsics::preset(const std::string& name) {
   if (name == "fr1") return tumFreiburg1();
   if (name == "fr2") return tumFreiburg2();
   if (name == "fr3") return tumFreiburg3();
-  throw Error("unknown camera preset '" + name + "' (expected fr1, fr2 or fr3)");
+  if (name == "bonn") return bonnDynamic();
+  throw Error("unknown camera preset '" + name + "' (expected fr1, fr2, fr3 or bonn)");
 }
 
 CameraIntrinsics CameraIntrinsics::load(const std::string& path) {

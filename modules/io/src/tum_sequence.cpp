@@ -21,17 +21,27 @@ std::string join(const std::string& folder, const std::string& file) {
   return folder.back() == '/' ? folder + file : folder + "/" + file;
 }
 
+// The last component of a folder path, trailing slashes ignored.
+std::string folderName(const std::string& folder) {
+  const std::string name = folder.substr(0, folder.find_last_not_of('/') + 1);
+  return name.substr(name.find_last_of('/') + 1);
+}
+
 }  // namespace
+
+bool isBonnDynamicFolder(const std::string& folder) {
+  return folderName(folder).rfind("rgbd_bonn_", 0) == 0;
+}
 
 CameraIntrinsics intrinsicsForFolder(const std::string& folder,
                                      const std::string& calibration_file) {
   if (!calibration_file.empty()) return CameraIntrinsics::load(calibration_file);
   const std::string in_folder = join(folder, "camera.txt");
   if (fileExists(in_folder)) return CameraIntrinsics::load(in_folder);
+  // Bonn folders are published without a calibration file; their name is the only hint.
+  if (isBonnDynamicFolder(folder)) return CameraIntrinsics::bonnDynamic();
   // The benchmark's folder names say which Kinect recorded them.
-  const auto slash = folder.find_last_not_of('/');
-  const std::string name = folder.substr(0, slash + 1);
-  const std::string base = name.substr(name.find_last_of('/') + 1);
+  const std::string base = folderName(folder);
   for (const char* tag : {"freiburg1", "fr1"}) {
     if (base.find(tag) != std::string::npos) return CameraIntrinsics::tumFreiburg1();
   }

@@ -18,7 +18,10 @@ struct CameraIntrinsics {
   static CameraIntrinsics tumFreiburg1();
   static CameraIntrinsics tumFreiburg2();
   static CameraIntrinsics tumFreiburg3();
-  // "fr1" | "fr2" | "fr3"; throws pf2::Error naming the unknown preset.
+  // Bonn RGB-D Dynamic Dataset (Palazzolo et al., IROS 2019), the dataset's published values,
+  // 640x480; its folders ship no calibration file.
+  static CameraIntrinsics bonnDynamic();
+  // "fr1" | "fr2" | "fr3" | "bonn"; throws pf2::Error naming the unknown preset and the allowed ones.
   static CameraIntrinsics preset(const std::string& name);
 
   // Calibration file: "key value" lines (fx fy cx cy width height), '#' comments.

@@ -21,7 +21,8 @@ class TumSequence : public FrameSource {
     // Associations file ("rgb_stamp rgb_file depth_stamp depth_file"); empty = associate here.
     std::string associations_file;
     // Camera calibration file (CameraIntrinsics::load format); empty = "camera.txt" in the folder
-    // if present, else the TUM preset named by the folder (freiburg1/2/3), else freiburg3.
+    // if present, else the Bonn preset for a Bonn RGB-D Dynamic folder (isBonnDynamicFolder),
+    // else the TUM preset named by the folder (freiburg1/2/3), else freiburg3.
     std::string calibration_file;
   };
 
@@ -53,6 +54,11 @@ class TumSequence : public FrameSource {
   CameraIntrinsics intrinsics_;
   std::vector<TumAssociation> pairs_;
 };
+
+// True for a folder of the Bonn RGB-D Dynamic Dataset as published: its name starts with
+// "rgbd_bonn_" (e.g. rgbd_bonn_crowd). Such a folder's groundtruth.txt holds marker poses, not
+// camera poses: read it with TrajectoryFormat::kBonn (trajectory_io.h).
+bool isBonnDynamicFolder(const std::string& folder);
 
 // Picks the intrinsics as TumSequence::Options::calibration_file describes.
 CameraIntrinsics intrinsicsForFolder(const std::string& folder, const std::string& calibration_file);
