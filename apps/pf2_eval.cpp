@@ -23,6 +23,8 @@ const char* kUsage =
     "  --delta-frames N   RPE delta in frames instead of seconds\n"
     "  --scale            also estimate a scale in the alignment (monocular estimates)\n"
     "  --max-diff S       largest timestamp difference for association, seconds (default 0.02)\n"
+    "  --gt-format F      what GROUNDTRUTH holds: tum (camera poses, default) or bonn (the Bonn\n"
+    "                     RGB-D Dynamic Dataset's marker poses, converted to camera poses)\n"
     "  --json             print one JSON object as the last line (ate_rmse, ate_mean, ate_median,\n"
     "                     ate_std, ate_min, ate_max, pairs, scale, and rpe_* with --rpe)\n"
     "  --plot FILE        top view of both trajectories with the error segments (.png or .svg)\n"
@@ -48,13 +50,15 @@ int run(int argc, char** argv) {
     rpe_options.delta = delta_frames;
     rpe_options.unit = pf2::RpeOptions::DeltaUnit::kFrames;
   }
+  const pf2::TrajectoryFormat gt_format =
+      pf2::parseTrajectoryFormat(cli.value("--gt-format", "tum"), "--gt-format");
   const auto plot_path = cli.value("--plot");
   const auto files = cli.positionals();
   if (files.size() != 2) {
     throw pf2::Error("expected GROUNDTRUTH and ESTIMATE, got " + std::to_string(files.size()) +
                      " file argument(s) (see -h)");
   }
-  const pf2::Trajectory ground_truth = pf2::readTrajectory(files[0]);
+  const pf2::Trajectory ground_truth = pf2::readTrajectory(files[0], gt_format);
   if (ground_truth.empty()) throw pf2::fileError(files[0], "no poses in file");
   const pf2::Trajectory estimate = pf2::readTrajectory(files[1]);
   if (estimate.empty()) throw pf2::fileError(files[1], "no poses in file");
