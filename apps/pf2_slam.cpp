@@ -29,9 +29,11 @@ const char* kUsage =
     "\n"
     "Options:\n"
     "  -o DIR               output folder (created if needed)\n"
-    "  --detector NAME      auto (default: gt if the folder has gt/, else learned, else hog),\n"
-    "                       none (no person removal), gt, hog, file, yolo, selfie, movenet, learned\n"
+    "  --detector NAME      auto (default: learned when its models are installed, else hog),\n"
+    "                       none (no person removal), gt (ground-truth oracle of pf2_synth folders),\n"
+    "                       hog, file, yolo, selfie, movenet, learned\n"
     "  --eval GROUNDTRUTH   print ATE (and RPE over 1 s) of the trajectory at the end\n"
+    "  --gt-format F        tum (default) or bonn: GROUNDTRUTH holds Bonn RGB-D Dynamic marker poses\n"
     "  --config FILE        'section.key value' settings (docs/slam.md lists the keys)\n"
     "  --frames N           process only the first N frames\n"
     "  --no-map             track only; no TSDF/OctoMap\n"
@@ -87,6 +89,8 @@ int run(int argc, char** argv) {
   if (cli.flag("--obj")) options.map_files.mesh_obj = true;
   if (cli.flag("--quiet")) options.progress = false;
   std::optional<std::string> eval_path = cli.value("--eval");
+  const pf2::TrajectoryFormat gt_format =
+      pf2::parseTrajectoryFormat(cli.value("--gt-format", "tum"), "--gt-format");
   const std::string distortion = cli.value("--distortion", "auto");
   pf2::TumSequence::Options tum;
   tum.calibration_file = cli.value("--calibration", "");
@@ -123,8 +127,8 @@ int run(int argc, char** argv) {
 
   std::printf("sequence    %s\n", sequence.description().c_str());
   std::printf("detector    %s\n", s.detector.c_str());
-  std::printf("frames      %d (tracked %d, lost %d, relocalised %d)\n", s.frames, s.tracked, s.lost,
-              s.relocalised);
+  std::printf("frames      %d (posed %d: bridged %d, relocalised %d; lost %d)\n", s.frames, s.tracked,
+              s.bridged, s.relocalised, s.lost);
   std::printf("keyframes   %d\n", s.keyframes);
   std::printf("fps         %.1f end to end (%.1f s)\n", s.fps, s.seconds);
   for (const std::string& stage : system.stats().stages()) {
@@ -133,7 +137,7 @@ int run(int argc, char** argv) {
                 t.p90_ms, t.count);
   }
   if (eval_path) {
-    const pf2::Trajectory ground_truth = pf2::readTrajectory(*eval_path);
+    const pf2::Trajectory ground_truth = pf2::readTrajectory(*eval_path, gt_format);
     const pf2::AteResult ate = pf2::computeAte(ground_truth, system.trajectory());
     std::printf("ate.rmse    %.4f m  (mean %.4f, max %.4f, %d poses)\n", ate.translation.rmse,
                 ate.translation.mean, ate.translation.max, ate.translation.count);

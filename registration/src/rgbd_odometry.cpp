@@ -182,6 +182,8 @@ struct Accumulator {
   int inliers = 0;
   double geometric_sq = 0.0;
   double photometric_sq = 0.0;
+  // Intensity pairs (I_cur, I_ref) of the inliers, for the brightness fit.
+  double sum_cur = 0.0, sum_ref = 0.0, sum_cur_sq = 0.0, sum_cur_ref = 0.0;
 
   void add(const Accumulator& o) {
     H += o.H;
@@ -190,8 +192,47 @@ struct Accumulator {
     inliers += o.inliers;
     geometric_sq += o.geometric_sq;
     photometric_sq += o.photometric_sq;
+    sum_cur += o.sum_cur;
+    sum_ref += o.sum_ref;
+    sum_cur_sq += o.sum_cur_sq;
+    sum_cur_ref += o.sum_cur_ref;
   }
 };
+
+// Auto exposure and white balance change the brightness of a whole frame when a person in a
+// white or dark sweater fills the view; uncompensated, the photometric term then pulls the pose
+// tens of centimetres away. I_ref ~ gain * I_cur + bias, fitted by least squares to the inliers'
+// intensity pairs of the last iteration (alternating with the pose, as in direct sparse odometry's
+// affine brightness model); the gain is kept to [0.5, 2] and left alone on too few pairs.
+struct Brightness {
+  float gain = 1.0f, bias = 0.0f;
+  void fit(const Accumulator& a) {
+    if (a.inliers < 100) return;
+    const double n = a.inliers;
+    const double var = a.sum_cur_sq / n - (a.sum_cur / n) * (a.sum_cur / n);
+    if (!(var > 1e-6)) return;
+    const double cov = a.sum_cur_ref / n - (a.sum_cur / n) * (a.sum_ref / n);
+    gain = static_cast<float>(std::clamp(cov / var, 0.5, 2.0));
+    bias = static_cast<float>(a.sum_ref / n - gain * a.sum_cur / n);
+  }
+};
+
+// Adds the Gaussian prior r = log(T T_prior^-1) (to first order: translation of the error and its
+// rotation vector; the Jacobian under the left perturbation is the identity) to the normal
+// equations.
+void addMotionPriorTerm(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_prior, double sigma_t,
+                        double sigma_r, Matrix6d* H, Vector6d* b) {
+  const Eigen::Isometry3d E = T * T_prior.inverse();
+  const Eigen::AngleAxisd rotation(E.rotation());
+  Vector6d r;
+  r.head<3>() = E.translation();
+  r.tail<3>() = rotation.angle() * rotation.axis();
+  Vector6d w;
+  w.head<3>().setConstant(sigma_t > 0.0 ? 1.0 / (sigma_t * sigma_t) : 0.0);
+  w.tail<3>().setConstant(sigma_r > 0.0 ? 1.0 / (sigma_r * sigma_r) : 0.0);
+  H->diagonal() += w;
+  *b += w.cwiseProduct(r);
+}
 
 }  // namespace
 
@@ -328,7 +369,8 @@ void RgbdOdometry::makeReference(OdometryFrame* frame) const {
 }
 
 DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const OdometryFrame& current,
-                                    const Eigen::Isometry3d& T_ref_cur_guess) const {
+                                    const Eigen::Isometry3d& T_ref_cur_guess,
+                                    const Eigen::Isometry3d* T_ref_cur_prior) const {
   if (!reference.is_reference) throw Error("RgbdOdometry::refine: reference frame lacks gradients");
   if (reference.levels.size() != current.levels.size() ||
       static_cast<int>(reference.levels.size()) != options_.pyramid_levels)
@@ -340,6 +382,7 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
   const double lambda = options_.photometric_weight;
   const double inv_sigma_i2 = 1.0 / (options_.intensity_sigma * options_.intensity_sigma);
   Accumulator last;
+  Brightness brightness;
   int last_samples = 0;
 
   for (int l = coarsest; l >= options_.finest_level; --l) {
@@ -392,7 +435,8 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
           sums.b.noalias() += (w_g * r_g) * J;
 
           // Photometric: r = I_ref(pi(q)) - I_cur, J = dI/du * du/dq * [I, -[q]x].
-          const float r_i = bilinear(ref.intensity, u, v) - samples.intensity[i];
+          const float i_ref = bilinear(ref.intensity, u, v);
+          const float r_i = i_ref - (brightness.gain * samples.intensity[i] + brightness.bias);
           if (lambda > 0.0) {
             const float gx = bilinear(ref.gradient_x, u, v) * fx * inv_z;
             const float gy = bilinear(ref.gradient_y, u, v) * fy * inv_z;
@@ -408,6 +452,10 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
             ++acc.inliers;
             acc.geometric_sq += r_g * r_g;
             acc.photometric_sq += r_i * r_i;
+            acc.sum_cur += samples.intensity[i];
+            acc.sum_ref += i_ref;
+            acc.sum_cur_sq += samples.intensity[i] * samples.intensity[i];
+            acc.sum_cur_ref += samples.intensity[i] * i_ref;
           }
         }
         acc.H = sums.H.cast<double>();
@@ -419,7 +467,12 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
       ++result.iterations;
       last = total;
       last_samples = n;
+      if (lambda > 0.0) brightness.fit(total);
       if (total.associated < 6) break;
+      if (T_ref_cur_prior) {
+        addMotionPriorTerm(T, *T_ref_cur_prior, options_.prior_sigma_translation,
+                           options_.prior_sigma_rotation, &total.H, &total.b);
+      }
       const Vector6d delta = total.H.ldlt().solve(-total.b);
       if (!delta.allFinite()) break;
       T = applyUpdate(delta, T);
@@ -460,14 +513,14 @@ OdometryResult RgbdOdometry::estimate(const OdometryFrame& reference, OdometryFr
     result.sparse = features_.align(reference, *current);
     if (result.sparse.valid) start = result.sparse.T_ref_cur;
   }
-  result.dense = refine(reference, *current, start);
+  result.dense = refine(reference, *current, start, &T_ref_cur_guess);
   if (!result.dense.valid && !result.used_features) {
     // The prior was not good enough (fast motion): start again from the features' pose.
     features_.extract(current);
     result.used_features = true;
     result.sparse = features_.align(reference, *current);
     if (result.sparse.valid) {
-      const DenseAlignment retry = refine(reference, *current, result.sparse.T_ref_cur);
+      const DenseAlignment retry = refine(reference, *current, result.sparse.T_ref_cur, &T_ref_cur_guess);
       if (retry.valid || retry.inlier_ratio > result.dense.inlier_ratio) result.dense = retry;
     }
   }

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <climits>
 
+#include "pf2/core/pose.h"
+
 namespace pf2 {
 namespace {
 
@@ -31,7 +33,8 @@ class SubStageTimer {
 
 const char* toString(TrackStatus status) {
   switch (status) {
-    case TrackStatus::kOk: return "ok";
+    case TrackStatus::kOk: return "tracked";
+    case TrackStatus::kBridged: return "bridged";
     case TrackStatus::kLost: return "lost";
     case TrackStatus::kRelocalised: return "relocalised";
   }
@@ -58,67 +61,123 @@ TrackResult Tracker::track(const Frame& frame, const cv::Mat& person_mask) {
     SubStageTimer timer(&stats_, &result, "prepare");
     current = odometry_.prepare(frame, person_mask);
   }
+  const double depth_fraction =
+      double(current.valid_depth_pixels) / std::max(1, frame.depth.rows * frame.depth.cols);
 
   if (!initialised_) {
-    const double fraction =
-        double(current.valid_depth_pixels) / std::max(1, frame.depth.rows * frame.depth.cols);
-    if (fraction < options_.min_keyframe_depth_fraction) return result;  // kLost: nothing to start from
+    if (depth_fraction < options_.min_keyframe_depth_fraction) return result;  // kLost: nothing to start from
     SubStageTimer timer(&stats_, &result, "keyframe");
     initialised_ = true;
     result.status = TrackStatus::kOk;
     createKeyframe(&current, &result);
+    keepFrame(&current, true, frame.timestamp);
     return result;
   }
 
   // Too little static depth (a person filling the view) leaves the pose unconstrained: such a
-  // frame gets no pose rather than a guess that may be tens of centimetres off.
-  const double depth_fraction =
-      double(current.valid_depth_pixels) / std::max(1, frame.depth.rows * frame.depth.cols);
-  if (depth_fraction < options_.min_tracking_depth_fraction) {
-    lost_ = true;
-    return result;  // kLost
+  // frame is not measured (a synthetic frame with 3.5 % depth was tracked 42 cm off).
+  const bool measurable = depth_fraction >= options_.min_tracking_depth_fraction;
+  const Eigen::Isometry3d T_k_prior = options_.constant_velocity ? T_k_c_ * T_prev_cur_ : T_k_c_;
+  bool measured = false;
+  if (measurable && !lost_) {
+    measured = alignToKeyframe(&current, T_k_prior, frame.timestamp, &result) ||
+               alignToPreviousFrame(&current, T_k_prior, frame.timestamp, &result);
+    if (measured) result.status = TrackStatus::kOk;
   }
-  bool tracked = false;
-  if (!lost_) {
-    SubStageTimer timer(&stats_, &result, "odometry");
-    const Eigen::Isometry3d guess =
-        options_.constant_velocity ? T_k_c_ * T_prev_cur_ : T_k_c_;
-    result.odometry = odometry_.estimate(reference_, &current, guess);
-    if (result.odometry.valid) {
-      T_prev_cur_ = T_k_c_.inverse() * result.odometry.T_ref_cur;
-      T_k_c_ = result.odometry.T_ref_cur;
-      result.status = TrackStatus::kOk;
-      tracked = true;
-    }
-  }
-  if (!tracked) {
+  if (measurable && !measured) {
     SubStageTimer timer(&stats_, &result, "relocalise");
-    if (relocalise(&current, &result)) {
-      result.status = TrackStatus::kRelocalised;
-      tracked = true;
-    }
+    measured = relocalise(&current, &result);
+    if (measured) result.status = TrackStatus::kRelocalised;
   }
-  if (!tracked) {
-    lost_ = true;
-    result.status = TrackStatus::kLost;
-    return result;
+  if (!measured) {
+    if (lost_ || bridged_in_row_ >= options_.max_bridged_frames) {
+      lost_ = true;
+      previous_ = OdometryFrame();
+      result.status = TrackStatus::kLost;
+      return result;
+    }
+    // Bridged: the prior's pose, with the motion faded for the next frame.
+    T_k_c_ = T_k_prior;
+    T_prev_cur_ = interpolate(Eigen::Isometry3d::Identity(), T_prev_cur_, options_.bridge_motion_decay);
+    result.status = TrackStatus::kBridged;
   }
   lost_ = false;
   ++frames_since_keyframe_;
   result.keyframe_id = reference_id_;
   result.T_k_c = T_k_c_;
   result.T_w_c = map_.pose(reference_id_) * T_k_c_;
-  // A keyframe anchors every later frame and loop: it is only made from a frame with enough
-  // static depth (the inlier ratio also drops when a person covers the view; the old keyframe
-  // is kept until the view clears).
-  if (depth_fraction >= options_.min_keyframe_depth_fraction &&
+  // A keyframe anchors every later frame and loop: it is only made from a measured frame with
+  // enough static depth (the inlier ratio also drops when a person covers the view; the old
+  // keyframe is kept until the view clears).
+  if (measured && depth_fraction >= options_.min_keyframe_depth_fraction &&
       selector_.needsKeyframe(T_k_c_, result.odometry.dense.inlier_ratio, frames_since_keyframe_)) {
     SubStageTimer timer(&stats_, &result, "keyframe");
     createKeyframe(&current, &result);
     result.T_k_c = Eigen::Isometry3d::Identity();
     result.T_w_c = map_.pose(result.keyframe_id);
   }
+  keepFrame(&current, measured, frame.timestamp);
   return result;
+}
+
+bool Tracker::alignToKeyframe(OdometryFrame* current, const Eigen::Isometry3d& T_k_prior,
+                              double timestamp, TrackResult* result) {
+  SubStageTimer timer(&stats_, result, "odometry");
+  // The constant-velocity prior first; a wrong velocity (one bad frame pair) can start the
+  // alignment out of its basin, so the last pose itself is the second start.
+  for (const Eigen::Isometry3d& start : {T_k_prior, T_k_c_}) {
+    result->odometry = odometry_.estimate(reference_, current, start);
+    if (result->odometry.valid && withinReach(result->odometry.T_ref_cur, T_k_prior, timestamp)) {
+      T_prev_cur_ = T_k_c_.inverse() * result->odometry.T_ref_cur;
+      T_k_c_ = result->odometry.T_ref_cur;
+      return true;
+    }
+    if (start.isApprox(T_k_c_, 1e-9)) break;
+  }
+  return false;
+}
+
+bool Tracker::alignToPreviousFrame(OdometryFrame* current, const Eigen::Isometry3d& T_k_prior,
+                                   double timestamp, TrackResult* result) {
+  if (previous_.levels.empty()) return false;
+  SubStageTimer timer(&stats_, result, "previous_frame");
+  odometry_.makeReference(&previous_);
+  const Eigen::Isometry3d T_previous_prior = T_k_previous_.inverse() * T_k_prior;
+  const OdometryResult attempt = odometry_.estimate(previous_, current, T_previous_prior);
+  const Eigen::Isometry3d T_k_c = T_k_previous_ * attempt.T_ref_cur;
+  if (!attempt.valid || !withinReach(T_k_c, T_k_prior, timestamp)) return false;
+  result->odometry = attempt;
+  // The selector sees no overlap with the keyframe: a new one is made from this frame.
+  result->odometry.dense.inlier_ratio = 0.0;
+  T_prev_cur_ = T_k_c_.inverse() * T_k_c;
+  T_k_c_ = T_k_c;
+  return true;
+}
+
+bool Tracker::withinReach(const Eigen::Isometry3d& T_k_c, const Eigen::Isometry3d& T_k_prior,
+                          double timestamp) const {
+  const double dt = std::max(0.0, timestamp - last_measured_timestamp_);
+  const double tol_t = options_.guard_tolerance_translation, tol_r = options_.guard_tolerance_rotation;
+  const Eigen::Isometry3d T_measured_c = T_k_measured_.inverse() * T_k_c;
+  const Eigen::Isometry3d T_prior_c = T_k_prior.inverse() * T_k_c;
+  return T_measured_c.translation().norm() <= tol_t + options_.max_speed * dt &&
+         rotationAngle(T_measured_c.rotation()) <= tol_r + options_.max_angular_speed * dt &&
+         T_prior_c.translation().norm() <= tol_t + 0.5 * options_.max_acceleration * dt * dt &&
+         rotationAngle(T_prior_c.rotation()) <= tol_r + 0.5 * options_.max_angular_acceleration * dt * dt;
+}
+
+void Tracker::keepFrame(OdometryFrame* current, bool measured, double timestamp) {
+  if (!measured) {
+    ++bridged_in_row_;
+    previous_ = OdometryFrame();
+    return;
+  }
+  bridged_in_row_ = 0;
+  last_measured_timestamp_ = timestamp;
+  T_k_measured_ = T_k_c_;
+  // A frame that became the keyframe was moved into reference_: the keyframe is its own fallback.
+  previous_ = current->levels.empty() ? OdometryFrame() : std::move(*current);
+  T_k_previous_ = T_k_c_;
 }
 
 void Tracker::createKeyframe(OdometryFrame* frame, TrackResult* result) {

@@ -23,8 +23,15 @@ Tracker::Options syncOptions() {
   return options;
 }
 
+// Without bridging a frame that cannot be measured is lost at once (the tests of relocalisation).
+Tracker::Options unbridgedOptions() {
+  Tracker::Options options = syncOptions();
+  options.max_bridged_frames = 0;
+  return options;
+}
+
 TEST(Tracker, TracksARenderedPathAndReportsLostFrames) {
-  Tracker tracker(syncOptions());
+  Tracker tracker(unbridgedOptions());
   const CameraIntrinsics k = smallCamera();
   const Eigen::Isometry3d T_w_0 = pathPose(0);
   auto expected = [&](int i) { return T_w_0.inverse() * pathPose(i); };  // world = first camera
@@ -80,7 +87,7 @@ TEST(Tracker, NoPoseBeforeTheFirstUsableFrame) {
 // min_keyframe_depth_fraction it is tracked but never becomes a keyframe, even when the selector
 // asks for one (keyframes are made on every frame here).
 TEST(Tracker, ASliverOfDepthGivesNoPoseAndNoKeyframe) {
-  Tracker::Options options = syncOptions();
+  Tracker::Options options = unbridgedOptions();
   options.keyframes.max_translation = 0.001;
   Tracker tracker(options);
   for (int i = 0; i < 3; ++i)
@@ -109,7 +116,7 @@ TEST(Tracker, ASliverOfDepthGivesNoPoseAndNoKeyframe) {
 // needs: a view turned 0.6 rad from the only keyframe (inlier ratio about 0.45) stays lost; one
 // turned 0.3 rad (about 0.7) is relocalised.
 TEST(Tracker, RelocalisationNeedsMoreOverlapThanTracking) {
-  Tracker tracker(syncOptions());
+  Tracker tracker(unbridgedOptions());
   ASSERT_EQ(tracker.track(test::renderRoom(pathPose(0), smallCamera(), 0)).status, TrackStatus::kOk);
   Frame noise = test::renderRoom(pathPose(1), smallCamera(), 1);
   cv::randu(noise.depth, cv::Scalar(0.3), cv::Scalar(5.0));
@@ -127,6 +134,60 @@ TEST(Tracker, RelocalisationNeedsMoreOverlapThanTracking) {
   ASSERT_EQ(back.status, TrackStatus::kRelocalised);
   const Eigen::Isometry3d expected = pathPose(0).inverse() * near;
   EXPECT_LT((back.T_w_c.translation() - expected.translation()).norm(), 0.005);
+}
+
+// Frames that cannot be measured (no depth, then noise) right after tracked ones are bridged with
+// the motion prior's pose, at most max_bridged_frames in a row, and never become keyframes; the
+// next frame of the scene is measured again against the same keyframe.
+TEST(Tracker, BridgesAShortGapWithTheMotionPrior) {
+  Tracker::Options options = syncOptions();
+  options.max_bridged_frames = 2;
+  Tracker tracker(options);
+  const CameraIntrinsics k = smallCamera();
+  auto expected = [&](int i) { return pathPose(0).inverse() * pathPose(i); };
+  for (int i = 0; i < 4; ++i) ASSERT_EQ(tracker.track(test::renderRoom(pathPose(i), k, i)).status, TrackStatus::kOk);
+
+  Frame blank = test::renderRoom(pathPose(4), k, 4);
+  blank.depth.setTo(0.0f);
+  const TrackResult bridged = tracker.track(blank);
+  ASSERT_EQ(bridged.status, TrackStatus::kBridged);
+  EXPECT_TRUE(hasPose(bridged.status));
+  EXPECT_FALSE(bridged.keyframe_created);
+  // Constant velocity (faded by bridge_motion_decay) from frame 3: about 1 cm from the truth.
+  EXPECT_LT((bridged.T_w_c.translation() - expected(4).translation()).norm(), 0.02);
+  Frame noise = test::renderRoom(pathPose(5), k, 5);
+  cv::randu(noise.depth, cv::Scalar(0.3), cv::Scalar(5.0));
+  cv::randu(noise.rgb, cv::Scalar::all(0), cv::Scalar::all(255));
+  EXPECT_EQ(tracker.track(noise).status, TrackStatus::kBridged);
+  EXPECT_EQ(tracker.track(blank).status, TrackStatus::kLost);  // the third in a row
+  EXPECT_EQ(tracker.keyframes().size(), 1u);
+
+  const TrackResult back = tracker.track(test::renderRoom(pathPose(7), k, 7));
+  ASSERT_TRUE(hasPose(back.status));
+  EXPECT_LT((back.T_w_c.translation() - expected(7).translation()).norm(), 0.003);
+}
+
+// The divergence guard: an odometry pose that jumps farther than max_speed allows since the last
+// measured frame is rejected, and the frame is bridged instead of taking it. (Only relocalisation,
+// a match without any prior that needs min_relocalisation_inlier_ratio, may place a frame that
+// far; it is switched off here.)
+TEST(Tracker, RejectsAnImpossibleJump) {
+  Tracker::Options options = syncOptions();
+  options.max_speed = 0.3;  // m/s: 1 cm per 1/30 s frame, plus the 4 cm tolerance
+  options.min_relocalisation_inlier_ratio = 1.01;
+  Tracker tracker(options);
+  const CameraIntrinsics k = smallCamera();
+  for (int i = 0; i < 3; ++i) {
+    Frame frame = test::renderRoom(pathPose(i), k, i);
+    frame.timestamp = i / 30.0;
+    ASSERT_EQ(tracker.track(frame).status, TrackStatus::kOk);
+  }
+  // The camera "jumps" 12 cm in one frame: the odometry measures it, the guard refuses it.
+  Frame jump = test::renderRoom(pathPose(2) * test::cameraPose(0.12, 0, 0, 0, 0, 0), k, 3);
+  jump.timestamp = 3 / 30.0;
+  const TrackResult r = tracker.track(jump);
+  EXPECT_EQ(r.status, TrackStatus::kBridged);
+  EXPECT_LT((r.T_w_c.translation() - (pathPose(0).inverse() * pathPose(2)).translation()).norm(), 0.03);
 }
 
 TEST(Tracker, KeyframesFollowMotion) {

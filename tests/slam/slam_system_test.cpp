@@ -90,14 +90,26 @@ TEST(SlamSystem, BlindFramesAreLostNotInvented) {
   options.progress = false;
   options.build_map = false;
   options.tracker.asynchronous_backend = false;
+  options.tracker.max_bridged_frames = 2;
   SlamSystem system(options);
-  const SlamRunSummary summary = system.run(source, "", testing::TempDir() + "pf2_slam_blind");
-  EXPECT_EQ(summary.lost, 5);
+  const std::string out = testing::TempDir() + "pf2_slam_blind";
+  const SlamRunSummary summary = system.run(source, "", out);
+  // Frames 15 and 16 are bridged (prior pose), 17-19 lost, 20 relocalised.
+  EXPECT_EQ(summary.bridged, 2);
+  EXPECT_EQ(summary.lost, 3);
   EXPECT_EQ(summary.relocalised, 1);
-  ASSERT_EQ(system.trajectory().size(), 35u);
+  ASSERT_EQ(system.trajectory().size(), 37u);
   for (const StampedPose& pose : system.trajectory()) {
-    for (int i = 15; i < 20; ++i) EXPECT_NE(pose.timestamp, sequence.timestamp(i));
+    for (int i = 17; i < 20; ++i) EXPECT_NE(pose.timestamp, sequence.timestamp(i));
   }
+  // stats.json marks every frame.
+  const std::string stats = readAll(out + "/stats.json");
+  EXPECT_NE(stats.find("\"bridged\":2"), std::string::npos) << stats;
+  size_t bridged_entries = 0, lost_entries = 0;
+  for (size_t at = 0; (at = stats.find("\"status\":\"bridged\"", at)) != std::string::npos; ++at) ++bridged_entries;
+  for (size_t at = 0; (at = stats.find("\"status\":\"lost\"", at)) != std::string::npos; ++at) ++lost_entries;
+  EXPECT_EQ(bridged_entries, 2u);
+  EXPECT_EQ(lost_entries, 3u);
   // After relocalisation the poses are right again.
   EXPECT_LT(computeAte(groundTruth(sequence), system.trajectory()).translation.rmse, 0.01);
 }

@@ -6,8 +6,12 @@ namespace pf2 {
 
 DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   DualBBoxFilter::Options options;
+  // Backend masks on: the human tracks need them (with the gt masks of pf2_synth, boxes only
+  // give 8 identity switches instead of 0). On the real Bonn crowd frames boxes only track better
+  // (filter.use_mask false: ATE 1.9 cm instead of 4.0; docs/BENCHMARKS.md).
   options.use_mask = true;
   options.temporal = true;
+  options.geometric = true;
   return options;
 }
 
@@ -43,11 +47,19 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   f.use_mask = config.boolean("filter.use_mask", f.use_mask);
   f.mask_dilation = config.integer("filter.mask_dilation", f.mask_dilation);
   f.temporal = config.boolean("filter.temporal", f.temporal);
+  f.geometric = config.boolean("filter.geometric", f.geometric);
+  o.geometric_margin = config.number("filter.geometric_margin", o.geometric_margin);
+  o.geometric_opening = config.integer("filter.geometric_opening", o.geometric_opening);
+  o.prediction.keyframes = config.integer("filter.geometric_keyframes", o.prediction.keyframes);
 
   Tracker::Options& t = o.tracker;
   t.odometry.pyramid_levels = config.integer("tracker.pyramid_levels", t.odometry.pyramid_levels);
   t.odometry.finest_level = config.integer("tracker.finest_level", t.odometry.finest_level);
   t.odometry.photometric_weight = config.number("tracker.photometric_weight", t.odometry.photometric_weight);
+  t.odometry.prior_sigma_translation =
+      config.number("tracker.prior_sigma_translation", t.odometry.prior_sigma_translation);
+  t.odometry.prior_sigma_rotation = config.number("tracker.prior_sigma_rotation", t.odometry.prior_sigma_rotation);
+  t.max_bridged_frames = config.integer("tracker.max_bridged_frames", t.max_bridged_frames);
   t.odometry.features_every_frame =
       config.boolean("tracker.features_every_frame", t.odometry.features_every_frame);
   t.keyframes.max_translation = config.number("tracker.keyframe_translation", t.keyframes.max_translation);

@@ -24,11 +24,6 @@ namespace pf2 {
 
 namespace {
 
-bool isFile(const std::string& path) {
-  struct stat info;
-  return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
-}
-
 void makeDirectory(const std::string& path) {
   struct stat info;
   if (::stat(path.c_str(), &info) == 0) {
@@ -108,6 +103,7 @@ std::map<int, Eigen::Isometry3d> fusedPoses(const std::map<int, Eigen::Isometry3
 // What the front end remembers of each frame to write the loop-corrected trajectory at the end.
 struct FrameRecord {
   double timestamp;
+  TrackStatus status;
   bool has_pose;
   int keyframe_id;
   Eigen::Isometry3d T_k_c;
@@ -171,31 +167,43 @@ std::unique_ptr<HumanDetector> makeDetector(const SlamOptions& options,
     return nullptr;
   }
   if (name == "auto") {
-    if (!gt_folder.empty() && isFile(gt_folder + "/boxes.txt")) {
-      name = "gt";
-    } else {
-      try {
-        *chosen = "learned";
-        return createHumanDetector("learned", detection);
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "pf2_slam: learned detector unavailable (%s); using hog\n", e.what());
-        name = "hog";
-      }
+    // Users have no ground truth: the project's own detector, never the gt oracle by default.
+    try {
+      *chosen = "learned";
+      return createHumanDetector("learned", detection);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pf2_slam: warning: learned detector unavailable (%s); using hog "
+                   "(scripts/fetch_models.sh installs its models)\n", e.what());
+      name = "hog";
     }
   }
   *chosen = name;
   return createHumanDetector(name, detection);
 }
 
+// Each frame's timestamp and tracking status ("tracked", "bridged", "relocalised", "lost").
+std::string frameStatusJson(const std::vector<FrameRecord>& records) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "[";
+  for (size_t i = 0; i < records.size(); ++i) {
+    out << (i ? "," : "") << "{\"timestamp\":" << records[i].timestamp << ",\"status\":\""
+        << toString(records[i].status) << "\"}";
+  }
+  out << "]";
+  return out.str();
+}
+
 std::string summaryJson(const SlamRunSummary& s, const StageStats& stages,
-                        const StageStats& tracker_stages) {
+                        const StageStats& tracker_stages, const std::vector<FrameRecord>& records) {
   std::ostringstream out;
   out.precision(6);
   out << "{\"frames\":" << s.frames << ",\"tracked\":" << s.tracked << ",\"lost\":" << s.lost
-      << ",\"relocalised\":" << s.relocalised << ",\"keyframes\":" << s.keyframes
+      << ",\"relocalised\":" << s.relocalised << ",\"bridged\":" << s.bridged
+      << ",\"keyframes\":" << s.keyframes
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
       << "\",\"stages\":" << stages.toJson() << ",\"tracker_stages\":" << tracker_stages.toJson()
-      << "}\n";
+      << ",\"frame_status\":" << frameStatusJson(records) << "}\n";
   return out.str();
 }
 
@@ -210,6 +218,13 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   SlamRunSummary summary;
   std::unique_ptr<HumanDetector> detector = makeDetector(options_, sequence_folder, &summary.detector);
   DualBBoxFilter filter(options_.filter);
+  if (!(options_.geometric_margin > 0.0)) throw Error("filter.geometric_margin must be > 0 (metres)");
+  if (options_.geometric_opening < 0 || options_.geometric_opening > 50)
+    throw Error("filter.geometric_opening must be in [0, 50] pixels");
+  KeyframeDepthPrediction prediction(options_.prediction);
+  const auto free_space = std::make_shared<PredictedDepthEvidence>(options_.geometric_margin,
+                                                                   options_.geometric_opening);
+  filter.setDynamicEvidence(free_space);
   Tracker tracker(options_.tracker);
   Mapper mapper(options_.mapper);
   const bool track_humans = options_.track_humans && detector != nullptr;
@@ -294,6 +309,13 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         // Constant-velocity guess of this frame's motion, for the temporal guard.
         const Eigen::Isometry3d T_cur_prev =
             poses_in_row >= 2 ? T_w_prev.inverse() * T_w_prevprev : Eigen::Isometry3d::Identity();
+        if (options_.filter.geometric) {
+          // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
+          free_space->setPrediction(poses_in_row >= 1 ? prediction.predict(tracker.keyframes(),
+                                                                           T_w_prev * T_cur_prev.inverse(),
+                                                                           frame.intrinsics)
+                                                      : cv::Mat());
+        }
         filtered = filter.filter(frame.depth, detections, T_cur_prev);
         static_frame.depth = filtered.static_depth;
         person_mask = filtered.removed;
@@ -303,7 +325,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         ScopedStageTimer timer(&stats_, "track");
         result = tracker.track(static_frame, person_mask);
       }
-      FrameRecord record{frame.timestamp, result.status != TrackStatus::kLost, result.keyframe_id,
+      FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
                          Eigen::Isometry3d::Identity(), {}};
       if (track_humans) {
         // After tracking, so the tracker waits for nothing. Associated with this frame's pose as
@@ -330,7 +352,11 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         ++summary.lost;
       }
       if (result.status == TrackStatus::kRelocalised) ++summary.relocalised;
-      if (options_.build_map && record.has_pose) {
+      if (result.status == TrackStatus::kBridged) ++summary.bridged;
+      // A bridged pose is the motion prior's guess: good enough to place people for a moment,
+      // not to fuse depth into the map.
+      const bool measured = record.has_pose && result.status != TrackStatus::kBridged;
+      if (options_.build_map && measured) {
         const bool in_between = options_.fuse_every > 0 && summary.frames % options_.fuse_every == 0;
         if (result.keyframe_created || in_between) {
           const int id = result.keyframe_created ? result.keyframe_id : kFusedFrameIds + summary.frames;
@@ -374,7 +400,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
     mapper.updateKeyframePoses(fusedPoses(keyframe_poses, fused_anchors));
     mapper.exportMap(out_dir, options_.map_files);
   }
-  const std::string json = summaryJson(summary, stats_, tracker.stats());
+  const std::string json = summaryJson(summary, stats_, tracker.stats(), records);
   writeFileAtomically(out_dir + "/stats.json", [&](std::ostream& out) { out << json; });
   return summary;
 }

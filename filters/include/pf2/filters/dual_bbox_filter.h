@@ -85,16 +85,21 @@ class DynamicEvidence {
 
 // The simplest evidence: a predicted static depth image for the current view (rendered from a map,
 // or the last static depth moved into this view). Pixels measured more than `margin` metres in
-// front of a known prediction are dynamic. NOT thread safe.
+// front of a known prediction are dynamic. With opening_radius > 0 the mask is opened (eroded,
+// then dilated) by a disc of that many pixels: a moving person is a large blob, while a prediction
+// a little off (a pose guess, lens distortion) marks thin bands along depth edges that are static.
+// NOT thread safe.
 class PredictedDepthEvidence : public DynamicEvidence {
  public:
-  explicit PredictedDepthEvidence(double margin = 0.15) : margin_(margin) {}
+  explicit PredictedDepthEvidence(double margin = 0.15, int opening_radius = 0)
+      : margin_(margin), opening_radius_(opening_radius) {}
   // CV_32F metres, 0 = no prediction; must have the size of the depth images filtered next.
   void setPrediction(const cv::Mat& predicted_depth) { prediction_ = predicted_depth; }
   cv::Mat dynamicMask(const cv::Mat& depth) override;
 
  private:
   double margin_;
+  int opening_radius_;
   cv::Mat prediction_;
 };
 

@@ -74,6 +74,13 @@ class RgbdOdometry {
     double max_normal_depth_jump = 0.05;  // relative depth change per pixel step across which no
                                           // normal is taken (a depth edge, not a surface)
     double convergence_step = 2e-5;  // stop a level when the update is below this (m and rad)
+    // Motion prior of estimate(): the guess is also a Gaussian prior on the pose with these
+    // standard deviations, added to the normal equations (a MAP estimate). Where the static scene
+    // constrains the pose (thousands of points) it hardly matters; where it does not (a wall and
+    // little else once people are removed) it keeps the unconstrained directions at the guess
+    // instead of letting Gauss-Newton run off. 0 = no prior.
+    double prior_sigma_translation = 0.03;  // metres
+    double prior_sigma_rotation = 0.03;     // radians
     // Verdict thresholds:
     double inlier_distance = 0.03;   // metres, point-to-plane residual counted as inlier
     int min_inliers = 800;           // at the finest level used (after sampling)
@@ -101,12 +108,14 @@ class RgbdOdometry {
   // Idempotent. Thread safe for distinct frames.
   void makeReference(OdometryFrame* frame) const;
 
-  // Dense refinement from T_ref_cur_guess. The reference must have been made a reference.
-  // Thread safe.
+  // Dense refinement from T_ref_cur_guess; a non-null T_ref_cur_prior adds the motion prior
+  // (Options::prior_sigma_*). The reference must have been made a reference. Thread safe.
   DenseAlignment refine(const OdometryFrame& reference, const OdometryFrame& current,
-                        const Eigen::Isometry3d& T_ref_cur_guess) const;
+                        const Eigen::Isometry3d& T_ref_cur_guess,
+                        const Eigen::Isometry3d* T_ref_cur_prior = nullptr) const;
 
-  // Sparse (per Options) + dense. The reference must have been made a reference (throws
+  // Sparse (per Options) + dense, T_ref_cur_guess being the motion prior of the dense stage. The
+  // reference must have been made a reference (throws
   // pf2::Error otherwise); the current frame's features are extracted on demand. Thread safe for
   // distinct current frames.
   OdometryResult estimate(const OdometryFrame& reference, OdometryFrame* current,

@@ -5,20 +5,30 @@
 //   Tracker tracker(Tracker::Options{});
 //   for (...) {
 //     const TrackResult r = tracker.track(frame, person_mask);  // mask may be empty
-//     if (r.status != TrackStatus::kLost) use(r.T_w_c);          // a lost frame has no pose
+//     if (hasPose(r.status)) use(r.T_w_c);                         // a lost frame has no pose
 //   }
 //   tracker.finish();  // let the back-end finish its queue; keyframes() then holds final poses
 //
 // The world frame is the first frame with enough usable depth. Status of a frame:
-//   kOk          the odometry against the current keyframe (from the motion prior, or the ORB
-//                fallback) is valid;
-//   kRelocalised that odometry was not valid (this frame, or every frame since the last lost
-//                one), and the frame was matched without a prior against the keyframes (the last
-//                one + appearance candidates) with at least min_relocalisation_inlier_ratio. It
-//                has a pose. So relocalised frames can occur without any lost frame: a frame
-//                where the odometry breaks but relocalisation succeeds is never lost.
-//   kLost        no pose: too little depth, or odometry and relocalisation both failed. Never
-//                given an invented pose.
+//   kOk          an alignment was measured and passed the checks: against the current keyframe
+//                from the motion prior (or the ORB fallback), or, when that fails, against the
+//                previous measured frame (frame-to-frame, chained onto its keyframe pose);
+//   kBridged     no alignment held (a person covering the view, blur, a rejected jump) but the
+//                last measured pose is at most max_bridged_frames frames old: the frame gets the
+//                motion prior's pose (constant velocity, damped), never fused into a map;
+//   kRelocalised the odometry was not valid and the frame was matched without a prior against
+//                the keyframes (the last one + appearance candidates) with at least
+//                min_relocalisation_inlier_ratio. Relocalised frames can occur without any lost
+//                frame;
+//   kLost        no pose: before the first usable frame, or after max_bridged_frames bridged
+//                frames in a row until relocalisation succeeds. Never given an invented pose.
+//
+// Divergence guard: a measured pose (kOk) must be physically reachable: from the last measured
+// pose at most max_speed (max_angular_speed) times the time since then, plus a tolerance; and
+// from the constant-velocity prediction at most what max_acceleration allows over that time, plus
+// a tolerance for the prediction's own error. A rejected pose never becomes the frame's pose; the
+// frame is bridged instead. Only relocalisation (a match without any prior, with at least
+// min_relocalisation_inlier_ratio) can place a frame beyond that reach.
 //
 // The current pose is kept relative to the current keyframe (T_w_c = T_w_k * T_k_c), so pose
 // graph corrections reach tracking at once. Thread safety: track() and finish() must be called
@@ -40,8 +50,11 @@
 
 namespace pf2 {
 
-enum class TrackStatus { kOk, kLost, kRelocalised };
-const char* toString(TrackStatus status);  // "ok" | "lost" | "relocalised"
+enum class TrackStatus { kOk, kBridged, kLost, kRelocalised };
+// "tracked" | "bridged" | "lost" | "relocalised"
+const char* toString(TrackStatus status);
+// True for every status but kLost.
+inline bool hasPose(TrackStatus status) { return status != TrackStatus::kLost; }
 
 struct TrackResult {
   TrackStatus status = TrackStatus::kLost;
@@ -80,6 +93,20 @@ class Tracker {
     // Relocalisation (no motion prior to confirm the pose) needs this dense inlier ratio;
     // tracking accepts RgbdOdometry::Options::min_inlier_ratio (0.35).
     double min_relocalisation_inlier_ratio = 0.6;
+    // Frames in a row that may be bridged with the motion prior's pose (about half a second at
+    // 30 Hz); the next one is kLost. 0 = no bridging (a failed frame is lost at once).
+    int max_bridged_frames = 15;
+    // Each bridged frame keeps this fraction of the last inter-frame motion (1 = constant
+    // velocity): the prior's velocity is a noisy two-frame estimate, so it is faded out fast.
+    double bridge_motion_decay = 0.5;
+    // Divergence guard (see the header comment): speeds and accelerations of a hand-held or
+    // robot-mounted camera; tolerances cover the noise of one frame's pose and velocity.
+    double max_speed = 2.0;                 // m/s
+    double max_angular_speed = 4.0;         // rad/s
+    double max_acceleration = 15.0;         // m/s^2
+    double max_angular_acceleration = 40.0; // rad/s^2
+    double guard_tolerance_translation = 0.04;  // metres
+    double guard_tolerance_rotation = 0.08;     // radians
   };
 
   explicit Tracker(const Options& options);
@@ -103,7 +130,21 @@ class Tracker {
  private:
   // The first keyframe defines the world; later ones are placed relative to reference_id_.
   void createKeyframe(OdometryFrame* frame, TrackResult* result);
+  // Odometry against the keyframe from the motion prior, then (if that fails) from the last
+  // pose; sets T_k_c_ when a result is valid and passes the divergence guard.
+  bool alignToKeyframe(OdometryFrame* current, const Eigen::Isometry3d& T_k_prior, double timestamp,
+                       TrackResult* result);
+  // Odometry against the previous measured frame (more overlap than the keyframe after fast
+  // motion); the pose is chained onto that frame's pose relative to the keyframe.
+  bool alignToPreviousFrame(OdometryFrame* current, const Eigen::Isometry3d& T_k_prior,
+                            double timestamp, TrackResult* result);
   bool relocalise(OdometryFrame* frame, TrackResult* result);
+  // The divergence guard: is T_k_c reachable from the last measured pose and the prior, given
+  // the time since the last measured pose?
+  bool withinReach(const Eigen::Isometry3d& T_k_c, const Eigen::Isometry3d& T_k_prior,
+                          double timestamp) const;
+  // Bookkeeping after a frame got a pose (measured or bridged).
+  void keepFrame(OdometryFrame* current, bool measured, double timestamp);
 
   Options options_;
   RgbdOdometry odometry_;
@@ -120,6 +161,13 @@ class Tracker {
   Eigen::Isometry3d T_k_c_ = Eigen::Isometry3d::Identity();       // last tracked pose
   Eigen::Isometry3d T_prev_cur_ = Eigen::Isometry3d::Identity();  // last inter-frame motion
   int frames_since_keyframe_ = 0;
+  int bridged_in_row_ = 0;
+  double last_measured_timestamp_ = 0.0;
+  Eigen::Isometry3d T_k_measured_ = Eigen::Isometry3d::Identity();  // last measured pose
+  // The previous frame if its pose was measured (empty levels otherwise), with that pose
+  // relative to the current keyframe.
+  OdometryFrame previous_;
+  Eigen::Isometry3d T_k_previous_ = Eigen::Isometry3d::Identity();
 };
 
 }  // namespace pf2

@@ -8,19 +8,26 @@
 #include "pf2/filters/dual_bbox_filter.h"
 #include "pf2/humans/human_tracker.h"
 #include "pf2/registration/tracker.h"
+#include "pf2/slam/keyframe_prediction.h"
 #include "pf2/surface/mapper.h"
 
 namespace pf2 {
 
 struct SlamOptions {
   // Person detector backend: a name of humanDetectorNames(), "none" (no person removal: the
-  // baseline that shows what removal buys) or "auto" (gt when the sequence has a gt/ folder,
-  // else "learned" when its models are installed, else "hog").
+  // baseline that shows what removal buys) or "auto" ("learned" when its models are installed,
+  // else "hog" with a warning; "gt", the ground-truth oracle, only when asked for by name).
   std::string detector = "auto";
   // The gt backend hands over its person masks, as a segmenting detector (selfie, learned) does,
   // so the filter's mask addition runs; detector.gt_masks false gives the paper's boxes-only input.
   DetectorOptions detection = defaultDetectionOptions();
   DualBBoxFilter::Options filter = defaultFilterOptions();
+  // The filter's geometric addition (filter.geometric): depth measured more than
+  // geometric_margin metres in front of the static depth predicted from the newest keyframes is
+  // removed as moving, whether or not a detector saw a person there.
+  KeyframeDepthPrediction::Options prediction;
+  double geometric_margin = 0.15;  // metres, > 0
+  int geometric_opening = 4;       // pixels: thinner dynamic regions are dropped (>= 0)
   Tracker::Options tracker;
   // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
   // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
@@ -46,9 +53,8 @@ struct SlamOptions {
   int prefetch_frames = 4;           // frames decoded ahead in a loader thread
   bool progress = true;              // progress line with fps on standard error
 
-  // The filter as the pipeline runs it: the paper's Algorithm 1 plus the backend mask and the
-  // temporal guard (measured in docs/BENCHMARKS.md); the geometric hook stays off until the
-  // map renders predictions.
+  // The filter as the pipeline runs it: the paper's Algorithm 1 plus the backend mask, the
+  // temporal guard and the geometric addition fed by the keyframes' prediction (docs/BENCHMARKS.md).
   static DualBBoxFilter::Options defaultFilterOptions();
   static DetectorOptions defaultDetectionOptions();
   static Mapper::Options defaultMapperOptions();

@@ -19,9 +19,10 @@ namespace pf2 {
 
 struct SlamRunSummary {
   int frames = 0;        // frames processed
-  int tracked = 0;       // frames with a pose (ok or relocalised)
+  int tracked = 0;       // frames with a pose (tracked, bridged or relocalised)
   int lost = 0;          // frames without a pose
   int relocalised = 0;   // frames where tracking came back
+  int bridged = 0;       // frames given the motion prior's pose (no alignment held)
   int keyframes = 0;
   double seconds = 0;    // wall time of the run, from the first frame read to the last tracked
   double fps = 0;        // frames / seconds (end to end, decoding included)
@@ -35,7 +36,8 @@ class SlamSystem {
 
   // Runs over the frames of `source` and writes into out_dir (created if needed):
   //   trajectory.txt  TUM format, one line per frame that has a pose, loop-corrected (T_w_c)
-  //   stats.json      frames, lost frames, per-stage median/p90 ms, end-to-end fps
+  //   stats.json      frames, lost/bridged/relocalised counts, per-stage median/p90 ms,
+  //                   end-to-end fps, each frame's tracking status
   //   map.ply, map.bt, map.ot (and map.pcd on request) when the map is built
   //   humans.txt      `timestamp id x y z` person centres (eq. 2-3) in trajectory.txt's world
   //                   frame, when a detector ran and options.track_humans is set

@@ -1,0 +1,50 @@
+#pragma once
+// The static depth a camera should see, predicted from the newest keyframes: their human-free
+// depth is the map's most recent view of the static scene. Each keyframe is moved into the
+// predicted camera pose and, per pixel, the farthest prediction is kept: a static surface seen at
+// depth d along a ray means that the space in front of it was empty, so anything measured well in
+// front of d is moving (the free-space test behind ReFusion's and StaticFusion's dynamic masks).
+// Taking the farthest keeps a person left in one keyframe (a missed detection) from hiding the
+// wall behind them in the other.
+//
+// pf2_slam hands the prediction to the Dual-BBox filter's geometric addition
+// (PredictedDepthEvidence) before the frame is tracked, with the constant-velocity pose guess, so
+// people the detector missed are removed from this frame's depth and never reach a keyframe.
+#include <map>
+#include <memory>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "pf2/core/camera_intrinsics.h"
+#include "pf2/registration/keyframe.h"
+
+namespace pf2 {
+
+class KeyframeDepthPrediction {
+ public:
+  struct Options {
+    int keyframes = 2;   // newest keyframes predicted from, >= 1
+    int downsample = 2;  // the warp runs at 1/downsample resolution (nearest-neighbour upsampled
+                         // back): a 0.15 m free-space margin does not need every pixel; 1 = full
+  };
+
+  KeyframeDepthPrediction() : KeyframeDepthPrediction(Options()) {}
+  // Throws pf2::Error when an option is out of range.
+  explicit KeyframeDepthPrediction(const Options& options);
+
+  // CV_32F metres at intrinsics' size, 0 where no keyframe predicts anything; an empty image when
+  // the map has no keyframe yet. T_w_c: the pose the view is predicted for. NOT thread safe (keeps
+  // the converted keyframe depths between calls); the map itself may be written concurrently.
+  cv::Mat predict(const KeyframeMap& map, const Eigen::Isometry3d& T_w_c,
+                  const CameraIntrinsics& intrinsics);
+
+ private:
+  // Keyframe depth in metres at the warp's resolution, converted once per keyframe.
+  const cv::Mat& depthOf(const Keyframe& keyframe);
+
+  Options options_;
+  std::map<int, cv::Mat> depth_by_id_;
+};
+
+}  // namespace pf2
