@@ -110,6 +110,7 @@ TrackResult Tracker::track(const Frame& frame, const cv::Mat& person_mask) {
   // enough static depth (the inlier ratio also drops when a person covers the view; the old
   // keyframe is kept until the view clears).
   if (measured && depth_fraction >= options_.min_keyframe_depth_fraction &&
+      result.odometry.dense.hessian_condition <= options_.max_keyframe_condition &&
       selector_.needsKeyframe(T_k_c_, result.odometry.dense.inlier_ratio, frames_since_keyframe_)) {
     SubStageTimer timer(&stats_, &result, "keyframe");
     createKeyframe(&current, &result);
@@ -212,6 +213,13 @@ bool Tracker::relocalise(OdometryFrame* frame, TrackResult* result) {
     if (id != reference_id_) candidate = odometry_.prepare(*map_.keyframe(id));
     const OdometryFrame& keyframe = id == reference_id_ ? reference_ : candidate;
     OdometryResult attempt = odometry_.estimateWithoutPrior(keyframe, frame);
+    if (!attempt.valid && id == reference_id_) {
+      // Features fail on blurred or plain views; from the last pose the dense alignment may
+      // still find the keyframe (a camera that stood still while a person passed close).
+      attempt.dense = odometry_.refine(keyframe, *frame, T_k_c_);
+      attempt.valid = attempt.dense.valid;
+      attempt.T_ref_cur = attempt.dense.T_ref_cur;
+    }
     // Relocalisation has no motion prior to confirm it: it needs more overlap than tracking.
     if (attempt.dense.inlier_ratio < options_.min_relocalisation_inlier_ratio) attempt.valid = false;
     if (!attempt.valid) {

@@ -86,6 +86,11 @@ class Tracker {
     // a frame with less (a person covering much of the view) is tracked but keeps the old
     // keyframe, because a keyframe on a sliver of scene anchors later frames and loops badly.
     double min_keyframe_depth_fraction = 0.2;
+    // A keyframe is made only from a frame whose alignment was well conditioned (largest /
+    // smallest eigenvalue of its normal matrix at most this): a view left with a wall and little
+    // else once people are removed slides along the wall, and as a keyframe it would anchor that
+    // error (typical good views: 1e3 - 5e3 on TUM and Bonn frames).
+    double max_keyframe_condition = 2e4;
     // Below this fraction of pixels with usable depth a frame is kLost: the few static pixels
     // left do not constrain the pose (a synthetic 900-frame loop had a frame with 3.5 % depth
     // tracked 42 cm off).
