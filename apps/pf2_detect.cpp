@@ -72,6 +72,8 @@ const char* kUsage =
     "  --surround-scale S     the surround is the box enlarged by S (default 2)\n"
     "  --separate-occlusions B  1: overlapping boxes that found one person look again (default 1)\n"
     "  --use-mask             also remove backend masks (dilated) where a backend gives them\n"
+    "  --mask-reach PX        with --use-mask: box and ring rules act only within PX pixels of a\n"
+    "                         person's mask (default 0 = everywhere in the box, the paper)\n"
     "  --temporal             guard last frame's removed pixels, moved by groundtruth.txt motion\n"
     "  --temporal-motion M    metres a person moves per frame: the moved pixels are dilated by it as\n"
     "                         seen at their depth (default 0.02)\n"
@@ -189,6 +191,7 @@ int run(int argc, char** argv) {
   filter_options.surround_scale = cli.number("--surround-scale", filter_options.surround_scale);
   filter_options.separate_occlusions = cli.integer("--separate-occlusions", 1) != 0;
   filter_options.use_mask = cli.flag("--use-mask");
+  filter_options.mask_box_reach = cli.integer("--mask-reach", filter_options.mask_box_reach);
   filter_options.temporal = cli.flag("--temporal");
   filter_options.temporal_dilation = cli.integer("--temporal-dilation", filter_options.temporal_dilation);
   filter_options.temporal_margin = cli.number("--temporal-margin", filter_options.temporal_margin);

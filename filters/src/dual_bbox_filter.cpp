@@ -119,7 +119,28 @@ struct FilterBox {
   cv::Rect surround;  // the box enlarged by surround_scale (what the person stands against)
   cv::Mat mask;       // dilated backend mask on mask_area (use_mask), else empty
   cv::Rect mask_area;
+  cv::Mat reach;      // mask dilated by mask_box_reach on reach_area: where the box and ring
+  cv::Rect reach_area;  // rules may remove depth (empty: everywhere in the box and ring)
 };
+
+// Row v of a box's reach, offset so that it is indexed by image column u; nullptr when the row
+// lies outside the reach area (nothing there may be removed). `everywhere` for a box without reach.
+const uint8_t kEverywhere[1] = {255};
+inline const uint8_t* reachRow(const FilterBox& b, int v, bool* everywhere) {
+  *everywhere = b.reach.empty();
+  if (*everywhere) return kEverywhere;
+  if (v < b.reach_area.y || v >= b.reach_area.y + b.reach_area.height) return nullptr;
+  return b.reach.ptr<uint8_t>(v - b.reach_area.y) - b.reach_area.x;
+}
+
+// Columns [u0, u1) of a rect clipped to the reach area (the whole rect without reach).
+inline void reachColumns(const FilterBox& b, const cv::Rect& rect, int* u0, int* u1) {
+  *u0 = rect.x;
+  *u1 = rect.x + rect.width;
+  if (b.reach.empty()) return;
+  *u0 = std::max(*u0, b.reach_area.x);
+  *u1 = std::min(*u1, b.reach_area.x + b.reach_area.width);
+}
 
 // Share of rect's valid depths (every second pixel and row) inside interval +- margin.
 double shareInInterval(const cv::Mat& depth, const cv::Rect& rect, const DepthInterval& interval, float margin) {
@@ -338,6 +359,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
                 scaledBoxRect(p.box, o.surround_scale, size), {}, {}};
     if (o.use_mask && !p.mask.empty() && p.mask.size() == size && p.mask.type() == CV_8U) {
       b.mask = dilatedOnArea(p.mask, o.mask_dilation, &b.mask_area);
+      if (o.mask_box_reach > 0) b.reach = dilatedOnArea(p.mask, o.mask_box_reach, &b.reach_area);
     }
     if (b.rect.empty() && b.mask.empty()) continue;
     boxes.push_back(std::move(b));
@@ -377,11 +399,16 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     const uint8_t label = static_cast<uint8_t>(t + 1);
     const DepthRange h(intervals[t], human_margin), h2(second_intervals[t], human_margin);
     areas[t] = b.rect;
+    int u_begin, u_end;
+    reachColumns(b, b.rect, &u_begin, &u_end);
     for (int v = b.rect.y; v < b.rect.y + b.rect.height; ++v) {
       const float* d = depth.ptr<float>(v);
       uint8_t* s = state.ptr<uint8_t>(v);
-      for (int u = b.rect.x, u_end = b.rect.x + b.rect.width; u < u_end; ++u) {
-        if (s[u] == kKept && d[u] > 0.f && (h.contains(d[u]) || h2.contains(d[u]))) {
+      bool everywhere;
+      const uint8_t* r = reachRow(b, v, &everywhere);
+      if (!r) continue;
+      for (int u = u_begin; u < u_end; ++u) {
+        if ((everywhere || r[u]) && s[u] == kKept && d[u] > 0.f && (h.contains(d[u]) || h2.contains(d[u]))) {
           s[u] = label;
         }
       }
@@ -402,12 +429,17 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   // The ring between each box and its lambda-enlarged box: depth unlike the background is removed.
   const DepthRange background(result.background, o.background_margin);
   for (const FilterBox& b : boxes) {
+    int u_begin, u_end;
+    reachColumns(b, b.ring, &u_begin, &u_end);
     for (int v = b.ring.y; v < b.ring.y + b.ring.height; ++v) {
       const float* d = depth.ptr<float>(v);
       const uint8_t* out = outside.ptr<uint8_t>(v);
       uint8_t* s = state.ptr<uint8_t>(v);
-      for (int u = b.ring.x, u_end = b.ring.x + b.ring.width; u < u_end; ++u) {
-        if (s[u] == kKept && out[u] && d[u] > 0.f && !background.contains(d[u])) {
+      bool everywhere;
+      const uint8_t* r = reachRow(b, v, &everywhere);
+      if (!r) continue;
+      for (int u = u_begin; u < u_end; ++u) {
+        if ((everywhere || r[u]) && s[u] == kKept && out[u] && d[u] > 0.f && !background.contains(d[u])) {
           s[u] = kRemoved;
         }
       }

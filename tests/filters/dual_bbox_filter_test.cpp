@@ -321,6 +321,29 @@ TEST(DualBBoxFilter, TemporalGuardWidensWithThePersonsMotionAtTheirDepth) {
   EXPECT_EQ(keptOfThePerson(0.1), 0);
 }
 
+// The floor at a person's feet: inside the box, at the person's depth, but far from their mask.
+// The box rule removes it; with mask_box_reach it acts only near the mask and the floor is kept,
+// the person (mask and the box pixels next to it) still removed.
+TEST(DualBBoxFilter, MaskReachKeepsBoxPixelsFarFromThePerson) {
+  Scene scene;
+  scene.depth(cv::Rect(22, 22, 4, 4)).setTo(1.55f);  // "floor" in the box's corner at the body's depth
+  PersonDetection p = person(14, 9, 26, 26);
+  p.mask = cv::Mat::zeros(30, 40, CV_8U);
+  p.mask(cv::Rect(15, 10, 6, 12)).setTo(255);  // the segmenter's person: cols 15..20, rows 10..21
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.mask_dilation = 1;
+  const auto everywhere = DualBBoxFilter(o).filter(scene.depth, detections({p}));
+  EXPECT_EQ(everywhere.static_depth.at<float>(24, 24), 0.f);  // the paper: removed
+  o.mask_box_reach = 2;
+  const auto near_mask = DualBBoxFilter(o).filter(scene.depth, detections({p}));
+  EXPECT_EQ(near_mask.static_depth.at<float>(24, 24), 1.55f);  // 3+ pixels from the mask: kept
+  EXPECT_EQ(near_mask.static_depth.at<float>(23, 20), 0.f);    // body 2 pixels below the mask: removed
+  EXPECT_EQ(near_mask.static_depth.at<float>(15, 18), 0.f);    // the masked body
+  EXPECT_EQ(near_mask.static_depth.at<float>(27, 20), 2.5f);   // the ring rule is bounded too
+  EXPECT_EQ(everywhere.static_depth.at<float>(27, 20), 0.f);
+}
+
 TEST(DualBBoxFilter, GeometricAdditionUsesTheEvidence) {
   const Scene scene;
   auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);

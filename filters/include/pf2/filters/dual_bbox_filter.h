@@ -129,6 +129,10 @@ class DualBBoxFilter {
     // --- beyond the paper ---
     bool use_mask = false;           // use backend masks where present
     int mask_dilation = 3;           // pixels the mask is dilated by
+    int mask_box_reach = 0;          // with a mask: the box and ring rules remove depth only within
+                                     // this many pixels of it (the floor at a person's feet and the
+                                     // wall beside them lie in the box at the person's depth);
+                                     // 0 = everywhere in the box and ring (the paper)
     bool temporal = false;           // guard with last frame's person pixels
     double temporal_person_motion = 0.02;  // metres: the moved previous mask is dilated by this
                                      // distance as seen at its depth (more pixels for near people);
