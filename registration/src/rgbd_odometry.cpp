@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <numeric>
+#include <array>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/calib3d.hpp>
@@ -175,6 +177,11 @@ struct StripeSums {
   Eigen::Matrix<float, 6, 1> b = Eigen::Matrix<float, 6, 1>::Zero();
 };
 
+// Histogram of |photometric residual| for the measured noise: bins of 1/400 up to 0.2 (the last
+// bin holds everything larger).
+constexpr int kScaleBins = 80;
+constexpr float kScaleBinWidth = 0.0025f;
+
 struct Accumulator {
   Matrix6d H = Matrix6d::Zero();
   Vector6d b = Vector6d::Zero();
@@ -184,8 +191,10 @@ struct Accumulator {
   double photometric_sq = 0.0;
   // Intensity pairs (I_cur, I_ref) of the inliers, for the brightness fit.
   double sum_cur = 0.0, sum_ref = 0.0, sum_cur_sq = 0.0, sum_cur_ref = 0.0;
+  std::array<int, kScaleBins> photometric_histogram{};  // of the associated points
 
   void add(const Accumulator& o) {
+    for (int k = 0; k < kScaleBins; ++k) photometric_histogram[k] += o.photometric_histogram[k];
     H += o.H;
     b += o.b;
     associated += o.associated;
@@ -216,6 +225,16 @@ struct Brightness {
     bias = static_cast<float>(a.sum_ref / n - gain * a.sum_cur / n);
   }
 };
+
+// 1.4826 x the median absolute photometric residual (a normal distribution's sigma), clamped to
+// [lo, hi]; `hi` when fewer than 100 points were associated.
+double measuredIntensitySigma(const Accumulator& a, double lo, double hi) {
+  const int total = std::accumulate(a.photometric_histogram.begin(), a.photometric_histogram.end(), 0);
+  if (total < 100) return hi;
+  int seen = 0, k = 0;
+  while (k < kScaleBins - 1 && (seen += a.photometric_histogram[k]) < total / 2) ++k;
+  return std::clamp(1.4826 * (k + 0.5) * kScaleBinWidth, lo, hi);
+}
 
 // Adds the Gaussian prior r = log(T T_prior^-1) (to first order: translation of the error and its
 // rotation vector; the Jacobian under the left perturbation is the identity) to the normal
@@ -380,7 +399,6 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
   Eigen::Isometry3d T = T_ref_cur_guess;
   const int coarsest = options_.pyramid_levels - 1;
   const double lambda = options_.photometric_weight;
-  const double inv_sigma_i2 = 1.0 / (options_.intensity_sigma * options_.intensity_sigma);
   Accumulator last;
   Brightness brightness;
   int last_samples = 0;
@@ -398,7 +416,10 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
     const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
     const int W = ref.depth.cols, H = ref.depth.rows;
 
+    // Each level starts from the configured noise; later iterations use the measured one.
+    double sigma_i = options_.intensity_sigma;
     for (int it = 0; it < iterations; ++it) {
+      const double inv_sigma_i2 = 1.0 / (sigma_i * sigma_i);
       const Eigen::Matrix3f R = T.rotation().cast<float>();
       const Eigen::Vector3f tr = T.translation().cast<float>();
       Accumulator total;
@@ -442,12 +463,13 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
             const float gy = bilinear(ref.gradient_y, u, v) * fy * inv_z;
             const Eigen::Vector3f g(gx, gy, -(gx * q.x() + gy * q.y()) * inv_z);
             const float w_i = static_cast<float>(
-                lambda * inv_sigma_i2 * huberWeight(r_i / options_.intensity_sigma, options_.huber_k));
+                lambda * inv_sigma_i2 * huberWeight(r_i / sigma_i, options_.huber_k));
             J.head<3>() = g;
             J.tail<3>() = q.cross(g);
             sums.H.noalias() += (w_i * J) * J.transpose();
             sums.b.noalias() += (w_i * r_i) * J;
           }
+          ++acc.photometric_histogram[std::min(kScaleBins - 1, static_cast<int>(std::fabs(r_i) / kScaleBinWidth))];
           if (std::fabs(r_g) < options_.inlier_distance) {
             ++acc.inliers;
             acc.geometric_sq += r_g * r_g;
@@ -468,6 +490,8 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
       last = total;
       last_samples = n;
       if (lambda > 0.0) brightness.fit(total);
+      if (options_.min_intensity_sigma > 0.0)
+        sigma_i = measuredIntensitySigma(total, options_.min_intensity_sigma, options_.intensity_sigma);
       if (total.associated < 6) break;
       if (T_ref_cur_prior) {
         addMotionPriorTerm(T, *T_ref_cur_prior, options_.prior_sigma_translation,

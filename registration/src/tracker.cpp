@@ -46,6 +46,7 @@ Tracker::Tracker(const Options& options)
       odometry_(options.odometry),
       selector_(options.keyframes),
       loops_(options.loops),
+      cleaner_(options.cleaning),
       backend_(std::make_unique<PoseGraphBackend>(options.backend, &map_, &loops_)) {
   if (options_.asynchronous_backend) backend_->start();
 }
@@ -131,6 +132,7 @@ bool Tracker::alignToKeyframe(OdometryFrame* current, const Eigen::Isometry3d& T
     if (result->odometry.valid && withinReach(result->odometry.T_ref_cur, T_k_prior, timestamp)) {
       T_prev_cur_ = T_k_c_.inverse() * result->odometry.T_ref_cur;
       T_k_c_ = result->odometry.T_ref_cur;
+      cleaner_.update(&reference_, *current, T_k_c_);
       return true;
     }
     if (start.isApprox(T_k_c_, 1e-9)) break;
@@ -191,6 +193,7 @@ void Tracker::createKeyframe(OdometryFrame* frame, TrackResult* result) {
   backend_->addKeyframe(id, reference_id_, reference_id_ >= 0 ? T_k_c_ : Eigen::Isometry3d::Identity());
   reference_ = std::move(*frame);
   reference_id_ = id;
+  cleaner_.reset();
   T_k_c_ = Eigen::Isometry3d::Identity();
   frames_since_keyframe_ = 0;
   result->keyframe_id = id;
@@ -230,6 +233,7 @@ bool Tracker::relocalise(OdometryFrame* frame, TrackResult* result) {
     if (id != reference_id_) {
       reference_ = std::move(candidate);
       reference_id_ = id;
+      cleaner_.reset();
     }
     T_k_c_ = attempt.T_ref_cur;
     T_prev_cur_ = Eigen::Isometry3d::Identity();  // the motion across the gap is unknown

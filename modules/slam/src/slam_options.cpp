@@ -63,6 +63,9 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   t.odometry.prior_sigma_translation =
       config.number("tracker.prior_sigma_translation", t.odometry.prior_sigma_translation);
   t.odometry.prior_sigma_rotation = config.number("tracker.prior_sigma_rotation", t.odometry.prior_sigma_rotation);
+  t.odometry.depth_sigma = config.number("tracker.depth_sigma", t.odometry.depth_sigma);
+  t.odometry.intensity_sigma = config.number("tracker.intensity_sigma", t.odometry.intensity_sigma);
+  t.odometry.min_intensity_sigma = config.number("tracker.min_intensity_sigma", t.odometry.min_intensity_sigma);
   t.max_bridged_frames = config.integer("tracker.max_bridged_frames", t.max_bridged_frames);
   t.odometry.features_every_frame =
       config.boolean("tracker.features_every_frame", t.odometry.features_every_frame);

@@ -66,7 +66,13 @@ class RgbdOdometry {
     double min_depth = 0.2;        // metres; closer depth is discarded
     double max_depth = 6.0;        // metres; farther depth is discarded (TUM depth gets noisy)
     int person_mask_dilation = 4;  // pixels added around a person mask before it is cut out
-    double intensity_sigma = 0.04;   // expected photometric noise, intensity units [0,1]
+    double intensity_sigma = 0.04;   // expected photometric noise, intensity units [0,1]; with
+                                     // min_intensity_sigma > 0 the upper bound of the measured one
+    // The photometric noise is measured at every iteration (1.4826 x the median absolute residual
+    // of the associated points, kept within [min_intensity_sigma, intensity_sigma]): a clean
+    // sensor then gets a tight scale against which the pixels of a moving person are outliers,
+    // a blurred one keeps a loose one. 0 = always intensity_sigma.
+    double min_intensity_sigma = 0.01;
     double depth_sigma = 0.01;       // point-to-plane noise at 1 m depth, metres (grows with z^2)
     double photometric_weight = 1.0; // relative weight of the photometric term (0 = ICP only)
     double huber_k = 1.345;          // Huber threshold on normalised residuals

@@ -46,6 +46,7 @@
 #include "pf2/registration/keyframe.h"
 #include "pf2/registration/loop_detector.h"
 #include "pf2/registration/pose_graph_backend.h"
+#include "pf2/registration/reference_cleaner.h"
 #include "pf2/registration/rgbd_odometry.h"
 
 namespace pf2 {
@@ -75,6 +76,8 @@ class Tracker {
     KeyframeSelector::Options keyframes;
     LoopDetector::Options loops;
     PoseGraphBackend::Options backend;
+    // Points of the current keyframe that later frames see through are taken out of it.
+    ReferenceCleaner::Options cleaning;
     // true: the back-end runs in its own thread; false: it runs inside track() right after a
     // keyframe is made (deterministic; tests and single-core use).
     bool asynchronous_backend = true;
@@ -156,6 +159,7 @@ class Tracker {
   KeyframeSelector selector_;
   KeyframeMap map_;
   LoopDetector loops_;
+  ReferenceCleaner cleaner_;
   std::unique_ptr<PoseGraphBackend> backend_;
   StageStats stats_;
 
