@@ -8,10 +8,10 @@ DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   DualBBoxFilter::Options options;
   // Backend masks on: the human tracks need them (with the gt masks of pf2_synth, boxes only
   // give 8 identity switches instead of 0). On the real Bonn crowd frames boxes only track better
-  // (filter.use_mask false: ATE 1.9 cm instead of 4.0; docs/BENCHMARKS.md).
+  // (filter.use_mask false: ATE 2.4 cm instead of 4.8; docs/BENCHMARKS.md).
   options.use_mask = true;
-  // The box's depth rule only near the mask: on the Bonn crowd frames 3.5 cm instead of 4.0,
-  // on pf2_synth halfsphere with the learned detector 7.5 cm instead of 10.5 (docs/BENCHMARKS.md).
+  // The box's depth rule only near the mask: Bonn crowd 4.8 cm (0 px: 9.6, 40 px: 7.7), pf2_synth
+  // halfsphere with the learned detector 1.7 cm (0 px: 2.4, 40 px: 9.2); docs/BENCHMARKS.md.
   options.mask_box_reach = 20;
   options.temporal = true;
   options.geometric = true;
