@@ -39,7 +39,7 @@ for camera in static xyz halfsphere rpy loop; do
     "$build/apps/pf2_slam" "$sequence" -o "$out" "${args[@]}" --no-map --quiet >/dev/null
     "$build/apps/pf2_eval" "$sequence/groundtruth.txt" "$out/trajectory.txt" --json | tail -n 1 > "$out/ate.json"
     printf '| %s | %s | %s | %s | %.4f | %.4f | %s | %.1f | %.1f | %s |\n' "$camera" "$people" "$n" \
-      "$mode" "$(json_field "$out/ate.json" ate_rmse)" "$(json_field "$out/ate.json" ate_max)" \
+      "$mode$([ "$mode" = none ] || echo " (oracle)")" "$(json_field "$out/ate.json" ate_rmse)" "$(json_field "$out/ate.json" ate_max)" \
       "$(json_field "$out/stats.json" lost)" "$(json_field "$out/stats.json" fps)" \
       "$(stage_median "$out/stats.json" track)" "$(stage_median "$out/stats.json" filter || echo -)"
   done
