@@ -1,10 +1,10 @@
 #include "pf2/registration/rgbd_odometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <mutex>
 #include <numeric>
-#include <array>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/calib3d.hpp>
@@ -193,6 +193,19 @@ struct Accumulator {
   double sum_cur = 0.0, sum_ref = 0.0, sum_cur_sq = 0.0, sum_cur_ref = 0.0;
   std::array<int, kScaleBins> photometric_histogram{};  // of the associated points
 
+  void addPhotometric(float r_i) {
+    ++photometric_histogram[std::min(kScaleBins - 1, static_cast<int>(std::fabs(r_i) / kScaleBinWidth))];
+  }
+  void addInlier(float r_g, float r_i, float i_cur, float i_ref) {
+    ++inliers;
+    geometric_sq += r_g * r_g;
+    photometric_sq += r_i * r_i;
+    sum_cur += i_cur;
+    sum_ref += i_ref;
+    sum_cur_sq += i_cur * i_cur;
+    sum_cur_ref += i_cur * i_ref;
+  }
+
   void add(const Accumulator& o) {
     for (int k = 0; k < kScaleBins; ++k) photometric_histogram[k] += o.photometric_histogram[k];
     H += o.H;
@@ -251,6 +264,98 @@ void addMotionPriorTerm(const Eigen::Isometry3d& T, const Eigen::Isometry3d& T_p
   w.tail<3>().setConstant(sigma_r > 0.0 ? 1.0 / (sigma_r * sigma_r) : 0.0);
   H->diagonal() += w;
   *b += w.cwiseProduct(r);
+}
+
+// One Gauss-Newton iteration's normal equations (and statistics) over the samples at pose T.
+Accumulator accumulate(const RgbdOdometry::Options& options, const OdometryLevel& ref,
+                       const Samples& samples, const Eigen::Isometry3d& T, const Brightness& brightness,
+                       double sigma_i) {
+  const double lambda = options.photometric_weight;
+  const double inv_sigma_i2 = 1.0 / (sigma_i * sigma_i);
+  const CameraIntrinsics& k = ref.intrinsics;
+  const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
+  const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
+  const int W = ref.depth.cols, H = ref.depth.rows;
+  const Eigen::Matrix3f R = T.rotation().cast<float>();
+  const Eigen::Vector3f tr = T.translation().cast<float>();
+  const int n = static_cast<int>(samples.points.size());
+  Accumulator total;
+  std::mutex mutex;
+  cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
+    Accumulator acc;
+    StripeSums sums;
+    Eigen::Matrix<float, 6, 1> J;
+    for (int i = range.start; i < range.end; ++i) {
+      const Eigen::Vector3f q = R * samples.points[i] + tr;
+      if (q.z() < options.min_depth) continue;
+      const float inv_z = 1.0f / q.z();
+      const float u = fx * q.x() * inv_z + cx, v = fy * q.y() * inv_z + cy;
+      if (!(u >= 0.0f && v >= 0.0f && u < W - 1 && v < H - 1)) continue;
+      const int ui = static_cast<int>(u + 0.5f), vi = static_cast<int>(v + 0.5f);
+      const float z_ref = ref.depth.at<float>(vi, ui);
+      if (!(z_ref > 0.0f) || std::fabs(z_ref - q.z()) > options.max_depth_difference * q.z()) continue;
+      const cv::Vec3f& nv = ref.normals.at<cv::Vec3f>(vi, ui);
+      if (nv[0] == 0.0f && nv[1] == 0.0f && nv[2] == 0.0f) continue;
+      ++acc.associated;
+      const Eigen::Vector3f nrm(nv[0], nv[1], nv[2]);
+      const Eigen::Vector3f p_ref((ui - cx) * z_ref / fx, (vi - cy) * z_ref / fy, z_ref);
+
+      // Point-to-plane: r = n . (q - p_ref), J = [n, q x n].
+      const float r_g = nrm.dot(q - p_ref);
+      const float sigma_g = static_cast<float>(options.depth_sigma) * q.z() * q.z();
+      const float w_g = static_cast<float>(huberWeight(r_g / sigma_g, options.huber_k)) / (sigma_g * sigma_g);
+      J.head<3>() = nrm;
+      J.tail<3>() = q.cross(nrm);
+      sums.H.noalias() += (w_g * J) * J.transpose();
+      sums.b.noalias() += (w_g * r_g) * J;
+
+      // Photometric: r = I_ref(pi(q)) - (gain I_cur + bias), J = dI/du * du/dq * [I, -[q]x].
+      const float i_ref = bilinear(ref.intensity, u, v);
+      const float r_i = i_ref - (brightness.gain * samples.intensity[i] + brightness.bias);
+      if (lambda > 0.0) {
+        const float gx = bilinear(ref.gradient_x, u, v) * fx * inv_z;
+        const float gy = bilinear(ref.gradient_y, u, v) * fy * inv_z;
+        const Eigen::Vector3f g(gx, gy, -(gx * q.x() + gy * q.y()) * inv_z);
+        const float w_i = static_cast<float>(lambda * inv_sigma_i2 * huberWeight(r_i / sigma_i, options.huber_k));
+        J.head<3>() = g;
+        J.tail<3>() = q.cross(g);
+        sums.H.noalias() += (w_i * J) * J.transpose();
+        sums.b.noalias() += (w_i * r_i) * J;
+      }
+      acc.addPhotometric(r_i);
+      if (std::fabs(r_g) < options.inlier_distance) acc.addInlier(r_g, r_i, samples.intensity[i], i_ref);
+    }
+    acc.H = sums.H.cast<double>();
+    acc.b = sums.b.cast<double>();
+    std::lock_guard<std::mutex> lock(mutex);
+    total.add(acc);
+  }, std::max(1, n / 2000));
+  return total;
+}
+
+
+// The figures of the last iteration and the Options' verdict on them.
+DenseAlignment verdict(const RgbdOdometry::Options& options, const Eigen::Isometry3d& T,
+                       const Eigen::Isometry3d& T_start, const Accumulator& last, int samples) {
+  DenseAlignment result;
+  result.T_ref_cur = T;
+  result.sampled_points = samples;
+  result.associated_points = last.associated;
+  result.inlier_points = last.inliers;
+  result.inlier_ratio = samples > 0 ? double(last.inliers) / samples : 0.0;
+  if (last.inliers > 0) {
+    result.geometric_rmse = std::sqrt(last.geometric_sq / last.inliers);
+    result.photometric_rmse = std::sqrt(last.photometric_sq / last.inliers);
+  }
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(last.H, Eigen::EigenvaluesOnly);
+  const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(5);
+  result.hessian_condition = lo > 0.0 ? hi / lo : std::numeric_limits<double>::infinity();
+  const double moved = (T.translation() - T_start.translation()).norm();
+  result.valid = T.matrix().allFinite() && result.inlier_points >= options.min_inliers &&
+                 result.inlier_ratio >= options.min_inlier_ratio &&
+                 result.hessian_condition <= options.max_condition &&
+                 moved <= options.max_motion_from_prior;
+  return result;
 }
 
 }  // namespace
@@ -395,101 +500,26 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
       static_cast<int>(reference.levels.size()) != options_.pyramid_levels)
     throw Error("RgbdOdometry::refine: frames prepared with other pyramid options");
 
-  DenseAlignment result;
+  int iterations_run = 0;
   Eigen::Isometry3d T = T_ref_cur_guess;
   const int coarsest = options_.pyramid_levels - 1;
-  const double lambda = options_.photometric_weight;
   Accumulator last;
   Brightness brightness;
   int last_samples = 0;
-
   for (int l = coarsest; l >= options_.finest_level; --l) {
-    const OdometryLevel& ref = reference.levels[l];
     const Samples samples = sampleLevel(current.levels[l], options_.max_points_per_level);
-    const int n = static_cast<int>(samples.points.size());
     const int span = std::max(1, coarsest - options_.finest_level);
     const double t = coarsest == options_.finest_level ? 1.0 : double(coarsest - l) / span;
     const int iterations = static_cast<int>(std::lround(
         options_.iterations_coarse + t * (options_.iterations_fine - options_.iterations_coarse)));
-    const CameraIntrinsics& k = ref.intrinsics;
-    const float fx = static_cast<float>(k.fx), fy = static_cast<float>(k.fy);
-    const float cx = static_cast<float>(k.cx), cy = static_cast<float>(k.cy);
-    const int W = ref.depth.cols, H = ref.depth.rows;
-
     // Each level starts from the configured noise; later iterations use the measured one.
     double sigma_i = options_.intensity_sigma;
     for (int it = 0; it < iterations; ++it) {
-      const double inv_sigma_i2 = 1.0 / (sigma_i * sigma_i);
-      const Eigen::Matrix3f R = T.rotation().cast<float>();
-      const Eigen::Vector3f tr = T.translation().cast<float>();
-      Accumulator total;
-      std::mutex mutex;
-      const int stripes = std::max(1, n / 2000);
-      cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
-        Accumulator acc;
-        StripeSums sums;
-        Eigen::Matrix<float, 6, 1> J;
-        for (int i = range.start; i < range.end; ++i) {
-          const Eigen::Vector3f q = R * samples.points[i] + tr;
-          if (q.z() < options_.min_depth) continue;
-          const float inv_z = 1.0f / q.z();
-          const float u = fx * q.x() * inv_z + cx, v = fy * q.y() * inv_z + cy;
-          if (!(u >= 0.0f && v >= 0.0f && u < W - 1 && v < H - 1)) continue;
-          const int ui = static_cast<int>(u + 0.5f), vi = static_cast<int>(v + 0.5f);
-          const float z_ref = ref.depth.at<float>(vi, ui);
-          if (!(z_ref > 0.0f) || std::fabs(z_ref - q.z()) > options_.max_depth_difference * q.z())
-            continue;
-          const cv::Vec3f& nv = ref.normals.at<cv::Vec3f>(vi, ui);
-          if (nv[0] == 0.0f && nv[1] == 0.0f && nv[2] == 0.0f) continue;
-          ++acc.associated;
-          const Eigen::Vector3f nrm(nv[0], nv[1], nv[2]);
-          const Eigen::Vector3f p_ref((ui - cx) * z_ref / fx, (vi - cy) * z_ref / fy, z_ref);
-
-          // Point-to-plane: r = n . (q - p_ref), J = [n, q x n].
-          const float r_g = nrm.dot(q - p_ref);
-          const float sigma_g = static_cast<float>(options_.depth_sigma) * q.z() * q.z();
-          const float w_g = static_cast<float>(huberWeight(r_g / sigma_g, options_.huber_k)) /
-                            (sigma_g * sigma_g);
-          J.head<3>() = nrm;
-          J.tail<3>() = q.cross(nrm);
-          sums.H.noalias() += (w_g * J) * J.transpose();
-          sums.b.noalias() += (w_g * r_g) * J;
-
-          // Photometric: r = I_ref(pi(q)) - I_cur, J = dI/du * du/dq * [I, -[q]x].
-          const float i_ref = bilinear(ref.intensity, u, v);
-          const float r_i = i_ref - (brightness.gain * samples.intensity[i] + brightness.bias);
-          if (lambda > 0.0) {
-            const float gx = bilinear(ref.gradient_x, u, v) * fx * inv_z;
-            const float gy = bilinear(ref.gradient_y, u, v) * fy * inv_z;
-            const Eigen::Vector3f g(gx, gy, -(gx * q.x() + gy * q.y()) * inv_z);
-            const float w_i = static_cast<float>(
-                lambda * inv_sigma_i2 * huberWeight(r_i / sigma_i, options_.huber_k));
-            J.head<3>() = g;
-            J.tail<3>() = q.cross(g);
-            sums.H.noalias() += (w_i * J) * J.transpose();
-            sums.b.noalias() += (w_i * r_i) * J;
-          }
-          ++acc.photometric_histogram[std::min(kScaleBins - 1, static_cast<int>(std::fabs(r_i) / kScaleBinWidth))];
-          if (std::fabs(r_g) < options_.inlier_distance) {
-            ++acc.inliers;
-            acc.geometric_sq += r_g * r_g;
-            acc.photometric_sq += r_i * r_i;
-            acc.sum_cur += samples.intensity[i];
-            acc.sum_ref += i_ref;
-            acc.sum_cur_sq += samples.intensity[i] * samples.intensity[i];
-            acc.sum_cur_ref += samples.intensity[i] * i_ref;
-          }
-        }
-        acc.H = sums.H.cast<double>();
-        acc.b = sums.b.cast<double>();
-        std::lock_guard<std::mutex> lock(mutex);
-        total.add(acc);
-      }, stripes);
-
-      ++result.iterations;
+      Accumulator total = accumulate(options_, reference.levels[l], samples, T, brightness, sigma_i);
+      ++iterations_run;
       last = total;
-      last_samples = n;
-      if (lambda > 0.0) brightness.fit(total);
+      last_samples = static_cast<int>(samples.points.size());
+      if (options_.photometric_weight > 0.0) brightness.fit(total);
       if (options_.min_intensity_sigma > 0.0)
         sigma_i = measuredIntensitySigma(total, options_.min_intensity_sigma, options_.intensity_sigma);
       if (total.associated < 6) break;
@@ -505,26 +535,11 @@ DenseAlignment RgbdOdometry::refine(const OdometryFrame& reference, const Odomet
         break;
     }
   }
-
-  result.T_ref_cur = T;
-  result.sampled_points = last_samples;
-  result.associated_points = last.associated;
-  result.inlier_points = last.inliers;
-  result.inlier_ratio = last_samples > 0 ? double(last.inliers) / last_samples : 0.0;
-  if (last.inliers > 0) {
-    result.geometric_rmse = std::sqrt(last.geometric_sq / last.inliers);
-    result.photometric_rmse = std::sqrt(last.photometric_sq / last.inliers);
-  }
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(last.H, Eigen::EigenvaluesOnly);
-  const double lo = eig.eigenvalues()(0), hi = eig.eigenvalues()(5);
-  result.hessian_condition = lo > 0.0 ? hi / lo : std::numeric_limits<double>::infinity();
-  const double moved = (T.translation() - T_ref_cur_guess.translation()).norm();
-  result.valid = T.matrix().allFinite() && result.inlier_points >= options_.min_inliers &&
-                 result.inlier_ratio >= options_.min_inlier_ratio &&
-                 result.hessian_condition <= options_.max_condition &&
-                 moved <= options_.max_motion_from_prior;
+  DenseAlignment result = verdict(options_, T, T_ref_cur_guess, last, last_samples);
+  result.iterations = iterations_run;
   return result;
 }
+
 
 OdometryResult RgbdOdometry::estimate(const OdometryFrame& reference, OdometryFrame* current,
                                       const Eigen::Isometry3d& T_ref_cur_guess) const {
