@@ -1,5 +1,6 @@
 #include "pf2/slam/keyframe_prediction.h"
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
@@ -45,7 +46,26 @@ cv::Mat KeyframeDepthPrediction::predict(const KeyframeMap& map, const Eigen::Is
   if (farthest.empty()) return cv::Mat();
   cv::Mat full;
   cv::resize(farthest, full, cv::Size(intrinsics.width, intrinsics.height), 0, 0, cv::INTER_NEAREST);
-  return full;
+  return options_.distortion.empty() ? full : distort(full, intrinsics);
+}
+
+cv::Mat KeyframeDepthPrediction::distort(const cv::Mat& rectified, const CameraIntrinsics& k) {
+  const CameraIntrinsics& m = map_intrinsics_;
+  if (rectified_of_pixel_.size() != rectified.size() || m.fx != k.fx || m.fy != k.fy || m.cx != k.cx ||
+      m.cy != k.cy) {
+    std::vector<cv::Point2f> pixels;
+    pixels.reserve(rectified.total());
+    for (int v = 0; v < rectified.rows; ++v)
+      for (int u = 0; u < rectified.cols; ++u) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
+    const cv::Matx33d K(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+    std::vector<cv::Point2f> positions;
+    cv::undistortPoints(pixels, positions, K, options_.distortion, cv::noArray(), K);
+    rectified_of_pixel_ = cv::Mat(positions, true).reshape(2, rectified.rows);
+    map_intrinsics_ = k;
+  }
+  cv::Mat out;
+  cv::remap(rectified, out, rectified_of_pixel_, cv::noArray(), cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
+  return out;
 }
 
 }  // namespace pf2

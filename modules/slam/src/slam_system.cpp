@@ -221,7 +221,9 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   if (!(options_.geometric_margin > 0.0)) throw Error("filter.geometric_margin must be > 0 (metres)");
   if (options_.geometric_opening < 0 || options_.geometric_opening > 50)
     throw Error("filter.geometric_opening must be in [0, 50] pixels");
-  KeyframeDepthPrediction prediction(options_.prediction);
+  KeyframeDepthPrediction::Options prediction_options = options_.prediction;
+  prediction_options.distortion = options_.tracker.odometry.distortion;
+  KeyframeDepthPrediction prediction(prediction_options);
   const auto free_space = std::make_shared<PredictedDepthEvidence>(options_.geometric_margin,
                                                                    options_.geometric_opening);
   filter.setDynamicEvidence(free_space);

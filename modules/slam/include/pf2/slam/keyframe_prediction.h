@@ -12,6 +12,7 @@
 // people the detector missed are removed from this frame's depth and never reach a keyframe.
 #include <map>
 #include <memory>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -27,6 +28,10 @@ class KeyframeDepthPrediction {
     int keyframes = 2;   // newest keyframes predicted from, >= 1
     int downsample = 2;  // the warp runs at 1/downsample resolution (nearest-neighbour upsampled
                          // back): a 0.15 m free-space margin does not need every pixel; 1 = full
+    // Lens distortion of the camera (OpenCV k1 k2 p1 p2 k3, as RgbdOdometry::Options::distortion):
+    // keyframes hold rectified depth, the frames to compare with do not, so the prediction is
+    // moved onto the distorted pixel grid. Empty = rectified images.
+    std::vector<double> distortion;
   };
 
   KeyframeDepthPrediction() : KeyframeDepthPrediction(Options()) {}
@@ -42,9 +47,13 @@ class KeyframeDepthPrediction {
  private:
   // Keyframe depth in metres at the warp's resolution, converted once per keyframe.
   const cv::Mat& depthOf(const Keyframe& keyframe);
+  // A rectified image moved onto the distorted pixel grid (nearest neighbour).
+  cv::Mat distort(const cv::Mat& rectified, const CameraIntrinsics& intrinsics);
 
   Options options_;
   std::map<int, cv::Mat> depth_by_id_;
+  cv::Mat rectified_of_pixel_;  // CV_32FC2: each distorted pixel's rectified position
+  CameraIntrinsics map_intrinsics_;
 };
 
 }  // namespace pf2
