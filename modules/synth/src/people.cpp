@@ -171,117 +171,559 @@ double armLoweringAngle(const BodyModel& model, const Eigen::VectorXd& shape) {
   return 80.0 * kPi / 180.0 - rest_down;
 }
 
-Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<const BodyModel> model)
+namespace {
+
+// Crossings start and end this far beyond the side edge of the view, so that the whole body (half
+// a stride and a swinging arm, about 0.4 m) is out of view there: metres.
+constexpr double kOutOfViewMargin = 0.5;
+// Free floor a crossing may use (x_min, y_min, x_max, y_max), metres: clear of the shelves along the
+// side walls, the boxes in the near corners and the desk.
+const Eigen::Vector4d kCrossingFloor(0.5, 0.95, 5.5, 3.2);
+// Random actions tried between two crossings of one person; those that would make it late or bring
+// it close in front of the camera are dropped.
+constexpr int kFillAttempts = 12;
+// Away from crossings a person keeps out of the close zone in front of the camera; checked this
+// often along its script, seconds.
+constexpr double kClearanceStep = 0.2;
+// Half the width of a person seen from any side, arms included: metres.
+constexpr double kBodyHalfWidth = 0.4;
+// The height at which a person is tested against the view: the chest, metres.
+constexpr double kChestHeight = 1.2;
+
+bool onFloor(const Eigen::Vector2d& p, const Eigen::Vector4d& floor) {
+  return p.x() >= floor[0] && p.y() >= floor[1] && p.x() <= floor[2] && p.y() <= floor[3];
+}
+
+Eigen::Vector2d clampToFloor(const Eigen::Vector2d& p, const Eigen::Vector4d& floor) {
+  return Eigen::Vector2d(std::min(floor[2], std::max(floor[0], p.x())), std::min(floor[3], std::max(floor[1], p.y())));
+}
+
+// How a crossing runs relative to the camera: a V with its tip on the view's axis, the nearest
+// point of the path; a bend of 0 is a straight line square to the axis.
+struct CrossingShape {
+  double nearest = 1.0;  // floor distance from the camera centre to the tip, metres
+  double bend = 0.0;     // angle of each half of the V to the image plane, radians, 0 .. 0.8
+};
+
+struct CrossingPath {
+  Eigen::Vector2d left, tip, right;  // world x y; the ends lie beyond the left and right edge of the view
+};
+
+// The walk across the camera's horizontal view with `shape`, from kOutOfViewMargin (measured square
+// to the edge) beyond the left edge of the view to as far beyond the right one.
+CrossingPath crossingPath(const Eigen::Isometry3d& T_w_c, double half_view_tan, const CrossingShape& shape) {
+  Eigen::Vector2d forward = T_w_c.linear().col(2).head<2>();
+  // Every camera motion looks into the room (+y) and never straight down; guard all the same.
+  forward = forward.norm() > 0.1 ? forward.normalized() : Eigen::Vector2d(0.0, 1.0);
+  const Eigen::Vector2d right(forward.y(), -forward.x());
+  // In the camera's floor coordinates (x right, z forward) the right half is (0, nearest) +
+  // s (cos, sin): it meets the edge x = T z at s = T nearest / (cos - T sin) and moves away from
+  // it by (cos - T sin) / sqrt(1 + T^2) per metre walked. The left half mirrors it.
+  const double T = half_view_tan;
+  // Each half must leave the view through a side edge, not run along it: at least 0.2 rad between them.
+  const double bend = std::max(0.0, std::min(shape.bend, std::atan(1.0 / T) - 0.2));
+  const double c = std::cos(bend), n = std::sin(bend);
+  const double s_end = (T * shape.nearest + kOutOfViewMargin * std::sqrt(1.0 + T * T)) / (c - T * n);
+  const Eigen::Vector2d tip = T_w_c.translation().head<2>() + shape.nearest * forward;
+  return {tip + s_end * (-c * right + n * forward), tip, tip + s_end * (c * right + n * forward)};
+}
+
+// crossingPath, made less bent in 0.05 rad steps and then brought closer to the camera in 5 cm steps
+// (not below min_distance) while one of its ends lies off the free floor; ends still off it are
+// moved onto it.
+CrossingPath crossingPathOnFloor(const Eigen::Isometry3d& T_w_c, double half_view_tan, CrossingShape shape,
+                                 double min_distance) {
+  CrossingPath path = crossingPath(T_w_c, half_view_tan, shape);
+  const auto fits = [&path] { return onFloor(path.left, kCrossingFloor) && onFloor(path.right, kCrossingFloor); };
+  while (!fits() && (shape.bend > 0.0 || shape.nearest > min_distance)) {
+    if (shape.bend > 0.0) {
+      shape.bend = std::max(0.0, shape.bend - 0.05);
+    } else {
+      shape.nearest = std::max(min_distance, shape.nearest - 0.05);
+    }
+    path = crossingPath(T_w_c, half_view_tan, shape);
+  }
+  return {clampToFloor(path.left, kCrossingFloor), path.tip, clampToFloor(path.right, kCrossingFloor)};
+}
+
+void checkCloseCrossings(const Crowd::CloseCrossings& close, const Crowd::CameraPath& camera) {
+  if (!close.enabled) return;
+  if (!(close.min_distance >= 0.3 && close.min_distance <= close.max_distance && close.max_distance <= 3.0)) {
+    throw Error("close crossings: min_distance and max_distance must satisfy 0.3 <= min <= max <= 3 m");
+  }
+  if (!(close.max_bend >= 0.0 && close.max_bend <= 0.8)) {
+    throw Error("close crossings: max_bend must lie in 0 .. 0.8 rad");
+  }
+  if (!(close.look_probability >= 0.0 && close.look_probability <= 1.0 && close.look_time >= 0.0 &&
+        close.look_time <= 5.0)) {
+    throw Error("close crossings: look_probability must lie in 0 .. 1 and look_time in 0 .. 5 s");
+  }
+  if (!(close.min_pause >= 0.0 && close.max_pause >= close.min_pause)) {
+    throw Error("close crossings: pauses must satisfy 0 <= min_pause <= max_pause (seconds)");
+  }
+  if (!camera.pose_at || !(camera.half_view_tan > 0.0)) {
+    throw Error("close crossings need the camera path (pose_at and a positive half_view_tan)");
+  }
+}
+
+}  // namespace
+
+// A crossing in the plan: who walks it, from where to where, starting when.
+struct Crowd::PlannedCrossing {
+  int person = 0;
+  Eigen::Vector2d from = Eigen::Vector2d::Zero();  // world x y, out of view
+  Eigen::Vector2d tip = Eigen::Vector2d::Zero();   // world x y, the nearest point, in view
+  Eigen::Vector2d to = Eigen::Vector2d::Zero();    // world x y, out of view
+  double start = 0.0;        // seconds: the walk from `from` over `tip` to `to` begins
+  double look = 0.0;         // seconds standing at the tip facing the camera (0: walks on)
+  double look_heading = 0.0; // radians about world z: from the tip towards the camera
+};
+
+// One person's script as it is written: segments appended one after the other, and where, facing
+// where and when the script ends so far.
+class Crowd::ScriptWriter {
+ public:
+  ScriptWriter(const Eigen::Vector2d& position, double yaw, double speed)
+      : position_(position), yaw_(yaw), speed_(speed) {}
+
+  double time() const { return t_; }
+  const Eigen::Vector2d& position() const { return position_; }
+  double yaw() const { return yaw_; }
+  double speed() const { return speed_; }
+  std::vector<Segment> release() { return std::move(script_); }
+
+  // Where on the floor the person is at time t seconds (at the end of the script after it ends);
+  // sitting counts as being at the chair's front edge.
+  Eigen::Vector2d positionAt(double t) const {
+    const auto it = std::upper_bound(script_.begin(), script_.end(), t,
+                                     [](double value, const Segment& s) { return value < s.t1; });
+    if (it == script_.end()) return position_;
+    if (it->kind != Segment::Kind::kWalk || !(it->t1 > it->t0)) return it->from;
+    const double alpha = std::max(0.0, (t - it->t0) / (it->t1 - it->t0));
+    return it->from + alpha * (it->to - it->from);
+  }
+
+  Segment* add(Segment::Kind kind, double duration, const Eigen::Vector2d& to, double yaw1) {
+    Segment s;
+    s.kind = kind;
+    s.t0 = t_;
+    s.t1 = t_ + duration;
+    s.from = position_;
+    s.to = to;
+    s.yaw0 = yaw_;
+    s.yaw1 = yaw1;
+    s.distance0 = distance_;
+    if (kind == Segment::Kind::kWalk) distance_ += (to - position_).norm();
+    if (kind == Segment::Kind::kTurn) distance_ += 0.25 * std::abs(wrapAngle(yaw1 - yaw_));
+    script_.push_back(s);
+    t_ += duration;
+    if (kind != Segment::Kind::kSitDown && kind != Segment::Kind::kSit) position_ = to;
+    yaw_ = yaw1;
+    return &script_.back();
+  }
+
+  // Turns in place to `heading` (radians about world z) at 2.5 rad/s, for at least 0.3 s; nothing
+  // when already within 0.05 rad of it.
+  void turnTo(double heading) {
+    const double turn = std::abs(wrapAngle(heading - yaw_));
+    if (turn > 0.05) add(Segment::Kind::kTurn, std::max(0.3, turn / 2.5), position_, yaw_ + wrapAngle(heading - yaw_));
+  }
+
+  // Turns towards `target`, then walks straight to it at the person's speed.
+  void walkTo(const Eigen::Vector2d& target) {
+    const Eigen::Vector2d d = target - position_;
+    if (d.norm() < 0.05) return;
+    turnTo(std::atan2(d.y(), d.x()));
+    add(Segment::Kind::kWalk, d.norm() / speed_, target, yaw_);
+  }
+
+  // Stands where the script ends until `time` seconds (nothing when that is under 10 ms away).
+  void standUntil(double time) {
+    if (time - t_ > 0.01) add(Segment::Kind::kStand, time - t_, position_, yaw_);
+  }
+
+ private:
+  std::vector<Segment> script_;
+  Eigen::Vector2d position_;
+  double yaw_ = 0.0;                   // radians about world z
+  double speed_ = 1.0;                 // m/s
+  double t_ = 0.0;                     // seconds
+  double distance_ = 0.0;              // walked so far (gait phase), metres
+};
+
+// Writes the people's scripts: a random start, then random actions (walk, stand, sit). With close
+// crossings, the crossings of all people are planned first, one after the other, and each
+// person's random actions are fitted into the time between its crossings.
+class Crowd::ScriptPlanner {
+ public:
+  ScriptPlanner(const Crowd::Options& options, const StaticScene& scene, const CameraPath& camera)
+      : options_(options), scene_(scene), camera_(camera), area_(scene.walkableArea()) {}
+
+  // Where person k starts: a random point and heading; person 1 may start seated at the desk.
+  ScriptWriter start(int k, double speed, HashRng* rng) const {
+    Eigen::Vector2d position = randomPoint(rng);
+    // With close crossings nobody starts in the close zone (the draws of other sequences stay as they were).
+    for (int redraw = 0; options_.close.enabled && redraw < 20 && !standsClear(position, 0.0, 2.0); ++redraw) {
+      position = randomPoint(rng);
+    }
+    ScriptWriter writer(position, rng->uniform(-kPi, kPi), speed);
+    // With close crossings and one person, that person crosses from the start instead.
+    const bool alone_crossing = options_.close.enabled && options_.people == 1;
+    if (k == 0 && canSit(k) && options_.first_person_seated && !alone_crossing) {
+      // As in TUM fr3/walking_*, someone sits at the desk when the recording starts.
+      const StaticScene::Seat& seat = scene_.seats()[0];
+      const Eigen::Vector2d in_front =
+          seat.position_w.head<2>() + 0.37 * Eigen::Vector2d(std::cos(seat.yaw), std::sin(seat.yaw));
+      writer = ScriptWriter(in_front, seat.yaw, speed);
+      writer.add(Segment::Kind::kSit, rng->uniform(2.0, 5.0), seat.position_w.head<2>(), seat.yaw)->seat = 0;
+      writer.add(Segment::Kind::kStandUp, 1.2, in_front, seat.yaw)->seat = 0;
+    }
+    return writer;
+  }
+
+  // Random actions until the script reaches `time` seconds; with close crossings only those that
+  // keep the person out of the close zone (else it stands still for half a second).
+  void addRandomActionsUntil(double time, int k, HashRng* rng, ScriptWriter* writer) const {
+    while (writer->time() < time) {
+      if (!options_.close.enabled) {
+        addRandomAction(k, rng, writer);
+        continue;
+      }
+      bool added = false;
+      for (int attempt = 0; attempt < kFillAttempts && !added; ++attempt) {
+        ScriptWriter trial = *writer;
+        addRandomAction(k, rng, &trial);
+        added = trial.time() > writer->time() && keepsClear(trial, writer->time(), trial.time());
+        if (added) *writer = trial;
+      }
+      if (!added) writer->add(Segment::Kind::kStand, 0.5, writer->position(), writer->yaw());
+    }
+  }
+
+  // The close crossings of the whole sequence, in time order: each starts a random pause after the
+  // previous one ended, walked by the person who crossed least recently among those who can be
+  // at its start by then (else by the one who can be there first). The first one is walked by a
+  // person who starts the sequence at its start; `starts` is changed for that person.
+  std::vector<PlannedCrossing> planCrossings(std::vector<ScriptWriter>* starts) const {
+    const Crowd::CloseCrossings& close = options_.close;
+    std::vector<ScriptWriter> writers = *starts;
+    HashRng rng(synth::hashOf(options_.seed, 0xc105ec055));
+    std::vector<double> last_start(writers.size(), -1e9);
+    std::vector<PlannedCrossing> plan;
+    double next = rng.uniform(0.0, close.max_pause);
+    while (!writers.empty() && next < options_.duration) {
+      CrossingShape shape;
+      // Cubed: near crossings, where a person fills a large part of the image, are the common ones
+      // (half of them within the nearest eighth of the range).
+      shape.nearest = close.min_distance + (close.max_distance - close.min_distance) * std::pow(rng.uniform(0, 1), 3);
+      shape.bend = rng.uniform(0.0, close.max_bend);
+      const double look = rng.uniform(0, 1) < close.look_probability ? close.look_time : 0.0;
+      const PlannedCrossing crossing = plan.empty() ? openingCrossing(starts, next, shape, look)
+                                                    : chooseCrosser(writers, last_start, next, shape, look);
+      if (plan.empty()) writers[crossing.person] = (*starts)[crossing.person];
+      ScriptWriter& writer = writers[crossing.person];
+      if (nearestInView(crossing, writer.speed()) < close.min_distance) {
+        // The camera's own motion would bring the person nearer than min_distance and the room
+        // has no farther path: try again half a second later.
+        next += 0.5;
+        continue;
+      }
+      walkCrossing(crossing, &writer);
+      last_start[crossing.person] = crossing.start;
+      // The next person may set off while this one is still walking out beyond the view's edge; the
+      // pause counts from this one leaving the view to the next one entering it (at most at max_speed).
+      const double out_of_view = kOutOfViewMargin / writer.speed() + kOutOfViewMargin / options_.max_speed;
+      next = writer.time() - out_of_view + rng.uniform(close.min_pause, close.max_pause);
+      plan.push_back(crossing);
+    }
+    return plan;
+  }
+
+  // Random actions that leave the person time to reach the crossing's start and keep it out of
+  // the close zone until then, then the crossing.
+  void addCrossing(const PlannedCrossing& crossing, HashRng* rng, ScriptWriter* writer) const {
+    for (int attempt = 0; attempt < kFillAttempts; ++attempt) {
+      ScriptWriter trial = *writer;
+      addRandomAction(crossing.person, rng, &trial);
+      if (arrival(crossing, trial) <= crossing.start && keepsClear(trial, writer->time(), crossing.start)) {
+        *writer = trial;
+      }
+    }
+    // Wait where the last action ended rather than at the edge of the view, unless the camera
+    // comes close to that spot meanwhile; then at the crossing's start.
+    const double leave = crossing.start - (arrival(crossing, *writer) - writer->time());
+    if (standsClear(writer->position(), writer->time(), leave)) writer->standUntil(leave);
+    walkCrossing(crossing, writer);
+  }
+
+ private:
+  bool canSit(int k) const { return k < static_cast<int>(scene_.seats().size()); }
+
+  // The chest of a person standing at `position`, in the camera frame.
+  static Eigen::Vector3d chestInCamera(const Eigen::Vector2d& position, const Eigen::Isometry3d& T_w_c) {
+    return T_w_c.inverse() * Eigen::Vector3d(position.x(), position.y(), kChestHeight);
+  }
+
+  // Whether some of a person with its chest at `chest_c` (camera frame) is in the horizontal view.
+  bool inView(const Eigen::Vector3d& chest_c) const {
+    return std::abs(chest_c.x()) - kBodyHalfWidth <= std::max(0.0, chest_c.z()) * camera_.half_view_tan;
+  }
+
+  // Whether a person standing at `position` at time t seconds is out of the close zone: out of the
+  // camera's view (whole body) or at least max_distance in front of it. Only crossings come closer.
+  bool clearOfCloseZone(const Eigen::Vector2d& position, double t) const {
+    const Eigen::Vector3d chest_c = chestInCamera(position, camera_.pose_at(t));
+    return chest_c.z() >= options_.close.max_distance || !inView(chest_c);
+  }
+
+  // Whether a person standing at `position` stays out of the close zone from `from` to `until` seconds.
+  bool standsClear(const Eigen::Vector2d& position, double from, double until) const {
+    return keepsClear(ScriptWriter(position, 0.0, 1.0), from, until);
+  }
+
+  // Whether the person of `script` stays out of the close zone from `from` to `until` seconds.
+  bool keepsClear(const ScriptWriter& script, double from, double until) const {
+    for (double t = from; t <= until; t += kClearanceStep) {
+      if (!clearOfCloseZone(script.positionAt(t), t)) return false;
+    }
+    return true;
+  }
+
+  // Sit down on the own chair (people 1 and 2), stand still, or walk to a point: close in front of
+  // the camera (not with close crossings), out of view at the sides, in the middle of the view or
+  // anywhere on the free floor.
+  void addRandomAction(int k, HashRng* rng, ScriptWriter* writer) const {
+    const double r = rng->uniform(0, 1);
+    if (canSit(k) && r < options_.sit_probability) {
+      sitOnOwnChair(k, rng, writer);
+    } else if (r < (canSit(k) ? options_.sit_probability : 0.0) + options_.stand_probability) {
+      writer->add(Segment::Kind::kStand, rng->uniform(1.0, 3.5), writer->position(), writer->yaw());
+    } else {
+      const Eigen::Vector2d target = walkTarget(rng);
+      if ((target - writer->position()).norm() > 0.6) writer->walkTo(target);
+    }
+  }
+
+  void sitOnOwnChair(int k, HashRng* rng, ScriptWriter* writer) const {
+    const StaticScene::Seat& seat = scene_.seats()[k];
+    const Eigen::Vector2d facing(std::cos(seat.yaw), std::sin(seat.yaw));
+    const Eigen::Vector2d approach = seat.position_w.head<2>() + 0.37 * facing;
+    writer->walkTo(approach);
+    const double turn = wrapAngle(seat.yaw - writer->yaw());
+    if (std::abs(turn) > 0.05) {
+      writer->add(Segment::Kind::kTurn, std::max(0.3, std::abs(turn) / 2.0), writer->position(), writer->yaw() + turn);
+    }
+    const Eigen::Vector2d seat_xy = seat.position_w.head<2>();
+    writer->add(Segment::Kind::kSitDown, 1.2, seat_xy, writer->yaw())->seat = k;
+    writer->add(Segment::Kind::kSit, rng->uniform(3.0, 8.0), seat_xy, writer->yaw())->seat = k;
+    writer->add(Segment::Kind::kStandUp, 1.2, approach, writer->yaw())->seat = k;
+  }
+
+  Eigen::Vector2d walkTarget(HashRng* rng) const {
+    const Eigen::Vector4d& area = area_;
+    const double kind = rng->uniform(0, 1);
+    // With close crossings, people come close only on them: one at a time.
+    const double close = options_.close.enabled ? 0.0 : options_.close_pass_probability;
+    const double leave = close + options_.leave_view_probability;
+    if (kind < close) {  // close in front of the camera
+      return Eigen::Vector2d(rng->uniform(2.3, 3.7), rng->uniform(area[1], area[1] + 0.35));
+    }
+    if (kind < leave) {  // out of view at the sides
+      return Eigen::Vector2d(rng->uniform(0, 1) < 0.5 ? rng->uniform(area[0], area[0] + 0.4)
+                                                      : rng->uniform(area[2] - 0.4, area[2]),
+                             rng->uniform(area[1], area[1] + 1.0));
+    }
+    if (kind < leave + options_.middle_probability) {  // across the middle of the view
+      return Eigen::Vector2d(rng->uniform(1.8, 4.2), rng->uniform(area[1] + 0.5, area[3]));
+    }
+    return randomPoint(rng);
+  }
+
+  Eigen::Vector2d randomPoint(HashRng* rng) const {
+    return Eigen::Vector2d(rng->uniform(area_[0], area_[2]), rng->uniform(area_[1], area_[3]));
+  }
+
+  // The crossing that opens the sequence, for the first person not seated at the start, who is
+  // moved to its start (so that even a short sequence begins with it).
+  PlannedCrossing openingCrossing(std::vector<ScriptWriter>* starts, double earliest, const CrossingShape& shape,
+                                  double look) const {
+    for (size_t k = 0; k < starts->size(); ++k) {
+      ScriptWriter& start = (*starts)[k];
+      if (start.time() > 0.0) continue;  // seated
+      const PlannedCrossing crossing =
+          layOut(static_cast<int>(k), start.position(), start.speed(), earliest, shape, look);
+      const Eigen::Vector2d along = crossing.tip - crossing.from;
+      start = ScriptWriter(crossing.from, std::atan2(along.y(), along.x()), start.speed());
+      return crossing;
+    }
+    return chooseCrosser(*starts, std::vector<double>(starts->size(), -1e9), earliest, shape, look);
+  }
+
+  // The person of `writers` who walks the next crossing, and the crossing fitted to them.
+  PlannedCrossing chooseCrosser(const std::vector<ScriptWriter>& writers, const std::vector<double>& last_start,
+                                double earliest, const CrossingShape& shape, double look) const {
+    std::vector<int> order(writers.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+    std::stable_sort(order.begin(), order.end(), [&last_start](int a, int b) { return last_start[a] < last_start[b]; });
+    PlannedCrossing first;
+    first.start = 1e18;
+    for (const int k : order) {
+      const PlannedCrossing crossing = fitCrossing(k, writers[k], earliest, shape, look);
+      if (crossing.start <= earliest + 1e-9) return crossing;
+      if (crossing.start < first.start) first = crossing;
+    }
+    return first;
+  }
+
+  // The crossing for person k with `shape` whose walk begins at `start` seconds, entered from the
+  // side nearer to `position`. Its path is laid out where the camera looks when the person
+  // reaches the tip (walking at `speed`, m/s), and moved away from the camera as far as the
+  // camera's own motion during the walk would otherwise bring it nearer than min_distance.
+  PlannedCrossing layOut(int k, const Eigen::Vector2d& position, double speed, double start,
+                         const CrossingShape& shape, double look) const {
+    PlannedCrossing crossing;
+    crossing.person = k;
+    crossing.start = start;
+    crossing.look = look;
+    double to_tip = (shape.nearest * camera_.half_view_tan + kOutOfViewMargin) / speed;  // seconds, first guess
+    double pushed = 0.0;  // metres
+    for (int round = 0; round < 4; ++round) {
+      CrossingShape moved = shape;
+      moved.nearest += pushed;
+      const Eigen::Isometry3d T_w_c = camera_.pose_at(start + to_tip);
+      const CrossingPath path =
+          crossingPathOnFloor(T_w_c, camera_.half_view_tan, moved, options_.close.min_distance + pushed);
+      const Eigen::Vector2d to_camera = T_w_c.translation().head<2>() - path.tip;
+      crossing.look_heading = std::atan2(to_camera.y(), to_camera.x());
+      const bool from_left = (path.left - position).norm() <= (path.right - position).norm();
+      crossing.from = from_left ? path.left : path.right;
+      crossing.tip = path.tip;
+      crossing.to = from_left ? path.right : path.left;
+      to_tip = (crossing.tip - crossing.from).norm() / speed;
+      pushed += std::max(0.0, options_.close.min_distance + 0.01 - nearestInView(crossing, speed));
+    }
+    return crossing;
+  }
+
+  // The nearest the person of `crossing` comes to the camera centre while in its view (floor
+  // distance, metres), walking at `speed` m/s; sampled every 0.1 s.
+  double nearestInView(const PlannedCrossing& crossing, double speed) const {
+    PlannedCrossing walk_from_zero = crossing;
+    walk_from_zero.start = 0.0;
+    const Eigen::Vector2d along = crossing.tip - crossing.from;
+    ScriptWriter walk(crossing.from, std::atan2(along.y(), along.x()), speed);
+    walkCrossing(walk_from_zero, &walk);
+    double nearest = 1e9;
+    for (double t = 0.0; t <= walk.time(); t += 0.5 * kClearanceStep) {
+      const Eigen::Vector2d p = walk.positionAt(t);
+      const Eigen::Isometry3d T_w_c = camera_.pose_at(crossing.start + t);
+      if (inView(chestInCamera(p, T_w_c))) nearest = std::min(nearest, (p - T_w_c.translation().head<2>()).norm());
+    }
+    return nearest;
+  }
+
+  // The crossing for person k with `shape`, starting at `earliest` or as soon after as the person
+  // of `writer` can be at its start. A late start is put 0.3 s after the person could be there:
+  // laid out anew for that time, the start moves a little, and the slack keeps the person on time.
+  PlannedCrossing fitCrossing(int k, const ScriptWriter& writer, double earliest, const CrossingShape& shape,
+                              double look) const {
+    PlannedCrossing crossing = layOut(k, writer.position(), writer.speed(), earliest, shape, look);
+    for (int round = 0; round < 4; ++round) {
+      const double ready = arrival(crossing, writer);
+      if (ready <= crossing.start) break;
+      crossing = layOut(k, writer.position(), writer.speed(), ready + 0.3, shape, look);
+    }
+    crossing.start = std::max(crossing.start, arrival(crossing, writer));
+    return crossing;
+  }
+
+  // Walks to the crossing's start and faces along it.
+  static void approach(const PlannedCrossing& crossing, ScriptWriter* writer) {
+    writer->walkTo(crossing.from);
+    const Eigen::Vector2d along = crossing.tip - crossing.from;
+    writer->turnTo(std::atan2(along.y(), along.x()));
+  }
+
+  // From the crossing's start (reached by `approach`): waits for its start time, then walks it.
+  static void walkCrossing(const PlannedCrossing& crossing, ScriptWriter* writer) {
+    approach(crossing, writer);
+    writer->standUntil(crossing.start);
+    writer->walkTo(crossing.tip);
+    if (crossing.look > 0.0) {
+      writer->turnTo(crossing.look_heading);
+      writer->add(Segment::Kind::kStand, crossing.look, writer->position(), writer->yaw());
+    }
+    writer->walkTo(crossing.to);
+  }
+
+  // When the person of `writer` could be at the crossing's start, facing along it, in seconds.
+  static double arrival(const PlannedCrossing& crossing, ScriptWriter writer) {
+    approach(crossing, &writer);
+    return writer.time();
+  }
+
+  const Crowd::Options& options_;
+  const StaticScene& scene_;
+  const CameraPath& camera_;
+  Eigen::Vector4d area_;  // walkable floor (x_min, y_min, x_max, y_max), metres
+};
+
+Crowd::Person Crowd::makePerson(const BodyModel& model, const Options& options, HashRng* rng) {
+  Person person;
+  person.shape = Eigen::VectorXd::Zero(10);
+  // Stature (coefficient 0 of the default model) and girth (3) vary most; the shipped model's
+  // mean stature is 1.63 m, so coefficient 0 is centred a little above it.
+  for (int i = 0; i < 10; ++i) {
+    const double spread = (i == 0 || i == 3) ? 0.9 : 0.5;
+    person.shape[i] = std::min(2.0, std::max(-2.0, rng->gaussian() * spread + (i == 0 ? 0.3 : 0.0)));
+  }
+  person.colors = clothe(model, person.shape, rng);
+  person.arm_lowering = armLoweringAngle(model, person.shape);
+  const auto rest_joints = model.restJoints(person.shape);
+  person.rest_pelvis = rest_joints[kPelvis];
+  BodyParameters rest;
+  rest.shape = person.shape;
+  const BodyMesh rest_mesh = model.evaluate(rest);
+  float sole = rest_mesh.vertices.empty() ? 0.0f : rest_mesh.vertices[0].y();
+  for (const auto& v : rest_mesh.vertices) sole = std::min(sole, v.y());
+  person.rest_pelvis_height = person.rest_pelvis.y() - sole;
+  person.speed = rng->uniform(options.min_speed, options.max_speed);
+  person.stride = 1.0 + 0.35 * person.speed;
+  return person;
+}
+
+Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<const BodyModel> model,
+             const CameraPath& camera)
     : options_(options), model_(std::move(model)) {
   if (options.people < 0 || options.people > 5) throw Error("people must be between 0 and 5");
   if (!(options.min_speed > 0.0 && options.max_speed >= options.min_speed)) {
     throw Error("walking speeds must be positive, min_speed <= max_speed");
   }
   if (options.people > 0 && !model_) throw Error("people need a body model");
-  const Eigen::Vector4d area = scene.walkableArea();
-  const auto randomPoint = [&area](HashRng* rng) {
-    return Eigen::Vector2d(rng->uniform(area[0], area[2]), rng->uniform(area[1], area[3]));
-  };
+  checkCloseCrossings(options.close, camera);
+  const ScriptPlanner planner(options_, scene, camera);
+  std::vector<HashRng> rngs;
+  std::vector<ScriptWriter> writers;
   for (int k = 0; k < options.people; ++k) {
-    HashRng rng(synth::hashOf(options.seed, static_cast<std::uint64_t>(k), 0x9e0931e));
-    Person person;
-    person.shape = Eigen::VectorXd::Zero(10);
-    // Stature (coefficient 0 of the default model) and girth (3) vary most; the shipped model's
-    // mean stature is 1.63 m, so coefficient 0 is centred a little above it.
-    for (int i = 0; i < 10; ++i) {
-      const double spread = (i == 0 || i == 3) ? 0.9 : 0.5;
-      person.shape[i] = std::min(2.0, std::max(-2.0, rng.gaussian() * spread + (i == 0 ? 0.3 : 0.0)));
+    rngs.emplace_back(synth::hashOf(options.seed, static_cast<std::uint64_t>(k), 0x9e0931e));
+    people_.push_back(makePerson(*model_, options, &rngs[k]));
+    writers.push_back(planner.start(k, people_[k].speed, &rngs[k]));
+  }
+  if (options.close.enabled) {
+    for (const PlannedCrossing& crossing : planner.planCrossings(&writers)) {
+      planner.addCrossing(crossing, &rngs[crossing.person], &writers[crossing.person]);
     }
-    person.colors = clothe(*model_, person.shape, &rng);
-    person.arm_lowering = armLoweringAngle(*model_, person.shape);
-    const auto rest_joints = model_->restJoints(person.shape);
-    person.rest_pelvis = rest_joints[kPelvis];
-    BodyParameters rest;
-    rest.shape = person.shape;
-    const BodyMesh rest_mesh = model_->evaluate(rest);
-    float sole = rest_mesh.vertices.empty() ? 0.0f : rest_mesh.vertices[0].y();
-    for (const auto& v : rest_mesh.vertices) sole = std::min(sole, v.y());
-    person.rest_pelvis_height = person.rest_pelvis.y() - sole;
-    const double speed = rng.uniform(options.min_speed, options.max_speed);  // m/s
-    person.stride = 1.0 + 0.35 * speed;
-
-    // The script: from a random start, walk to points near the camera, out of view or anywhere
-    // on the free floor, stop now and then, and (the first two people) sit on their chair.
-    Eigen::Vector2d position = randomPoint(&rng);
-    double yaw = rng.uniform(-kPi, kPi), distance = 0.0, t = 0.0;
-    const bool can_sit = k < static_cast<int>(scene.seats().size());
-    auto add = [&](Segment::Kind kind, double duration, const Eigen::Vector2d& to, double yaw1) {
-      Segment s;
-      s.kind = kind;
-      s.t0 = t;
-      s.t1 = t + duration;
-      s.from = position;
-      s.to = to;
-      s.yaw0 = yaw;
-      s.yaw1 = yaw1;
-      s.distance0 = distance;
-      if (kind == Segment::Kind::kWalk) distance += (to - position).norm();
-      if (kind == Segment::Kind::kTurn) distance += 0.25 * std::abs(wrapAngle(yaw1 - yaw));
-      person.script.push_back(s);
-      t += duration;
-      if (kind != Segment::Kind::kSitDown && kind != Segment::Kind::kSit) position = to;
-      yaw = yaw1;
-      return &person.script.back();
-    };
-    auto walkTo = [&](const Eigen::Vector2d& target) {
-      const Eigen::Vector2d d = target - position;
-      if (d.norm() < 0.05) return;
-      const double heading = std::atan2(d.y(), d.x());
-      const double turn = std::abs(wrapAngle(heading - yaw));
-      if (turn > 0.05) add(Segment::Kind::kTurn, std::max(0.3, turn / 2.5), position, yaw + wrapAngle(heading - yaw));
-      add(Segment::Kind::kWalk, d.norm() / speed, target, yaw);
-    };
-    if (k == 0 && can_sit && options.first_person_seated) {
-      // As in TUM fr3/walking_*, someone sits at the desk when the recording starts.
-      const StaticScene::Seat& seat = scene.seats()[0];
-      position = seat.position_w.head<2>() + 0.37 * Eigen::Vector2d(std::cos(seat.yaw), std::sin(seat.yaw));
-      yaw = seat.yaw;
-      add(Segment::Kind::kSit, rng.uniform(2.0, 5.0), seat.position_w.head<2>(), yaw)->seat = 0;
-      add(Segment::Kind::kStandUp, 1.2, position, yaw)->seat = 0;
-    }
-    while (t < options.duration + 2.0) {
-      const double r = rng.uniform(0, 1);
-      if (can_sit && r < options.sit_probability) {
-        const StaticScene::Seat& seat = scene.seats()[k];
-        const Eigen::Vector2d facing(std::cos(seat.yaw), std::sin(seat.yaw));
-        const Eigen::Vector2d approach = seat.position_w.head<2>() + 0.37 * facing;
-        walkTo(approach);
-        const double turn = wrapAngle(seat.yaw - yaw);
-        if (std::abs(turn) > 0.05) add(Segment::Kind::kTurn, std::max(0.3, std::abs(turn) / 2.0), position, yaw + turn);
-        const Eigen::Vector2d seat_xy = seat.position_w.head<2>();
-        add(Segment::Kind::kSitDown, 1.2, seat_xy, yaw)->seat = k;
-        add(Segment::Kind::kSit, rng.uniform(3.0, 8.0), seat_xy, yaw)->seat = k;
-        add(Segment::Kind::kStandUp, 1.2, approach, yaw)->seat = k;
-      } else if (r < (can_sit ? options.sit_probability : 0.0) + options.stand_probability) {
-        add(Segment::Kind::kStand, rng.uniform(1.0, 3.5), position, yaw);
-      } else {
-        const double kind = rng.uniform(0, 1);
-        Eigen::Vector2d target;
-        const double close = options.close_pass_probability;
-        const double leave = close + options.leave_view_probability;
-        if (kind < close) {  // close in front of the camera
-          target = Eigen::Vector2d(rng.uniform(2.3, 3.7), rng.uniform(area[1], area[1] + 0.35));
-        } else if (kind < leave) {  // out of view at the sides
-          target = Eigen::Vector2d(rng.uniform(0, 1) < 0.5 ? rng.uniform(area[0], area[0] + 0.4)
-                                                            : rng.uniform(area[2] - 0.4, area[2]),
-                                   rng.uniform(area[1], area[1] + 1.0));
-        } else if (kind < leave + options.middle_probability) {  // across the middle of the view
-          target = Eigen::Vector2d(rng.uniform(1.8, 4.2), rng.uniform(area[1] + 0.5, area[3]));
-        } else {
-          target = randomPoint(&rng);
-        }
-        if ((target - position).norm() > 0.6) walkTo(target);
-      }
-    }
-    people_.push_back(std::move(person));
+  }
+  for (int k = 0; k < options.people; ++k) {
+    // The scripts run 2 s past the end, so that the blur's exposure never runs out of script.
+    planner.addRandomActionsUntil(options.duration + 2.0, k, &rngs[k], &writers[k]);
+    people_[k].script = writers[k].release();
   }
   seats_ = scene.seats();
 }
+
+Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<const BodyModel> model)
+    : Crowd(options, scene, std::move(model), CameraPath()) {}
 
 Crowd::Posed Crowd::pose(int k, double t) const {
   const Person& person = people_.at(k);

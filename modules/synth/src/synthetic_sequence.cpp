@@ -129,6 +129,19 @@ of them, so depth pixel (u, v) belongs to mask pixel (u - PX, v). Depth carries 
 model unless the sequence was made with --noise none.
 )";
 
+// The gt/README.md paragraph of a sequence made with close people.
+std::string closeCrossingsNote(const Crowd::CloseCrossings& close) {
+  char text[1024];
+  std::snprintf(text, sizeof(text),
+                "\nMade with close people (pf2_synth --close): one after the other, people walk across the view,\n"
+                "entering at one side edge of the image and leaving at the other, the nearest point of their\n"
+                "path %.2g-%.2g m from the camera centre (floor distance to the person's axis); some stop there\n"
+                "for a moment facing the camera. A person covers a large part of some frames and is cut by the\n"
+                "image border; away from their crossings people stay out of view or farther than %.2g m.\n",
+                close.min_distance, close.max_distance, close.max_distance);
+  return text;
+}
+
 // Sequences with the same seed share one scene (baking its textures takes a while).
 std::shared_ptr<const StaticScene> sharedScene(std::uint64_t seed, double texels_per_metre) {
   static std::mutex mutex;
@@ -180,7 +193,16 @@ SyntheticSequence::SyntheticSequence(const Options& options)
   crowd_options.people = options.people;
   crowd_options.seed = options.seed;
   crowd_options.duration = options.frames / options.fps;
-  crowd_ = std::make_unique<Crowd>(crowd_options, *scene_, model);
+  crowd_options.close.enabled = options.close_people;
+  // Close crossings are planned where the camera will look; the wider half of the image decides
+  // where a person is out of view.
+  Crowd::CameraPath camera;
+  const CameraMotion motion = options.camera;
+  const double duration = crowd_options.duration;
+  camera.pose_at = [motion, duration](double t) { return cameraPoseAt(motion, t, duration); };
+  const CameraIntrinsics& K = options.intrinsics;
+  camera.half_view_tan = std::max(K.cx, K.width - K.cx) / K.fx;
+  crowd_ = std::make_unique<Crowd>(crowd_options, *scene_, model, camera);
 }
 
 SyntheticSequence::~SyntheticSequence() = default;
@@ -189,7 +211,8 @@ std::string SyntheticSequence::description() const {
   std::ostringstream text;
   text << "synthetic " << cameraMotionName(options_.camera) << ", " << options_.people << " people, "
        << options_.frames << " frames, seed " << options_.seed
-       << (options_.sensor.noise ? ", kinect noise" : ", exact depth");
+       << (options_.sensor.noise ? ", kinect noise" : ", exact depth")
+       << (options_.close_people ? ", close people" : "");
   return text.str();
 }
 
@@ -370,6 +393,7 @@ void SyntheticSequence::writeTumFolder(const std::string& out_dir,
          << options_.sensor.misalign_px << " px" << (options_.motion_blur ? ", motion blur" : "")
          << ", " << options_.intrinsics.width << "x" << options_.intrinsics.height << " at "
          << options_.fps << " Hz.\n";
+  if (options_.close_people) readme << closeCrossingsNote(options_.crowd.close);
   text(dir + "gt/README.md", readme.str());
 }
 

@@ -60,13 +60,17 @@ class SyntheticSequence : public FrameSource {
     int people = 3;                         // 0 .. 5
     CameraMotion camera = CameraMotion::kXyz;
     CameraIntrinsics intrinsics = CameraIntrinsics::tumFreiburg3();
+    bool close_people = false;              // people cross 0.7-1.6 m in front of the camera one after
+                                            // the other, entering and leaving at the image's sides
+                                            // (pf2_synth --close); distances and pauses: crowd.close
     bool motion_blur = false;               // colour blurred along the image motion, depth mixed at edges
     double exposure = 1.0 / 30.0;           // exposure time for the blur, seconds (<= 1 / fps)
     double texels_per_metre = 128;          // scene texture resolution
     DepthSensorModel::Options sensor;       // noise on/off, range, misalignment
     Rasterizer::Options rasterizer;         // lighting, threads
     Crowd::Options crowd;                   // walking speeds, how often people sit, stand, pass close;
-                                            // its people, seed and duration come from the fields above
+                                            // its people, seed, duration and close.enabled come from
+                                            // the fields above
   };
 
   // Builds the scene and the people's scripts. Throws pf2::Error on invalid options (and when
