@@ -22,6 +22,8 @@ const char* kUsage =
     "  --noise N         kinect | none (default kinect: z^2 noise, quantisation, holes, 0.4-4.5 m)\n"
     "  --misalign PX     shift depth PX pixels right of colour (default 0; negative = left)\n"
     "  --blur            motion blur: colour blurred along the image motion, depth mixed at edges\n"
+    "  --close           people cross the view 0.7-1.6 m in front of the camera, one after the\n"
+    "                    other, entering and leaving at the image's left and right borders\n"
     "  --quiet           no progress output\n"
     "  -h, --help        this text\n"
     "Exit status: 0 on success, 1 on bad options or when OUT_DIR cannot be written.\n";
@@ -46,6 +48,7 @@ int run(int argc, char** argv) {
   options.sensor.noise = noise == "kinect";
   options.sensor.misalign_px = cli.integer("--misalign", 0);
   options.motion_blur = cli.flag("--blur");
+  options.close_people = cli.flag("--close");
   const bool quiet = cli.flag("--quiet");
   const auto positionals = cli.positionals();
   if (positionals.size() != 1) {
