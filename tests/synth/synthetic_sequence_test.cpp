@@ -290,6 +290,83 @@ TEST(SyntheticSequence, WithoutClosePeopleTheOutputIsUnchanged) {
       << "seed 2, 5 people, loop, noise, blur";
 }
 
+// What close people do to the view, measured on the ground-truth labels of every `step`-th frame.
+struct CloseViewStats {
+  double largest_person = 0.0;  // largest fraction of the image one person covers in one frame
+  bool cut_at_side = false;     // a person covering at least 5 % touches the left or right border
+  double mean_static = 0.0;     // mean over frames of the fraction of static pixels
+  double min_static = 1.0;
+  int longest_covered_run = 0;  // frames in a row (of those measured) with under 10 % static pixels
+};
+
+CloseViewStats measureCloseView(const SyntheticSequence& sequence, size_t step) {
+  CloseViewStats stats;
+  int frames = 0, run = 0;
+  for (size_t i = 0; i < sequence.size(); i += step) {
+    FrameGroundTruth truth;
+    sequence.frame(i, &truth);
+    const cv::Mat& labels = truth.labels;
+    const double pixels = static_cast<double>(labels.total());
+    for (const PersonGroundTruth& person : truth.people) {
+      const double covered = person.visible_pixels / pixels;
+      stats.largest_person = std::max(stats.largest_person, covered);
+      const bool at_side = person.visible_pixels > 0 &&
+                           (person.box.x == 0 || person.box.x + person.box.width == labels.cols);
+      if (covered >= 0.05 && at_side) stats.cut_at_side = true;
+    }
+    const double static_fraction = cv::countNonZero(labels == 0) / pixels;
+    stats.mean_static += static_fraction;
+    stats.min_static = std::min(stats.min_static, static_fraction);
+    run = static_fraction < 0.1 ? run + 1 : 0;
+    stats.longest_covered_run = std::max(stats.longest_covered_run, run);
+    ++frames;
+  }
+  stats.mean_static /= std::max(1, frames);
+  return stats;
+}
+
+TEST(SyntheticSequence, ClosePeopleFillMuchOfTheViewAreCutAtTheSidesAndLeaveTheRoomVisible) {
+  for (const CameraMotion camera : {CameraMotion::kStatic, CameraMotion::kXyz, CameraMotion::kHalfsphere,
+                                    CameraMotion::kRpy, CameraMotion::kLoop}) {
+    SyntheticSequence::Options options = smallOptions(150, 3);
+    options.camera = camera;
+    options.close_people = true;
+    const CloseViewStats stats = measureCloseView(SyntheticSequence(options), 3);
+    std::printf("close people, camera %-10s largest person %.3f, cut at a side %s, static mean %.3f min %.3f, "
+                "longest run under 10 %% static %d\n",
+                cameraMotionName(camera), stats.largest_person, stats.cut_at_side ? "yes" : "no", stats.mean_static,
+                stats.min_static, stats.longest_covered_run);
+    EXPECT_GE(stats.largest_person, 0.25) << cameraMotionName(camera);
+    EXPECT_TRUE(stats.cut_at_side) << cameraMotionName(camera);
+    EXPECT_GE(stats.mean_static, 0.35) << cameraMotionName(camera);
+    EXPECT_LE(stats.longest_covered_run, 3) << cameraMotionName(camera);
+  }
+}
+
+TEST(SyntheticSequence, ClosePeopleAreDeterministicAndRecorded) {
+  SyntheticSequence::Options options = smallOptions(60, 2);
+  options.close_people = true;
+  options.sensor.noise = true;
+  const SyntheticSequence a(options), b(options);
+  options.close_people = false;
+  const SyntheticSequence plain(options);
+  FrameGroundTruth truth_a, truth_b, truth_plain;
+  const Frame frame_a = a.frame(40, &truth_a), frame_b = b.frame(40, &truth_b);
+  plain.frame(40, &truth_plain);
+  EXPECT_EQ(cv::norm(frame_a.rgb, frame_b.rgb, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(frame_a.depth, frame_b.depth, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(truth_a.labels, truth_b.labels, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(truth_a.labels, truth_plain.labels, cv::NORM_L1), 0.0);
+  EXPECT_NE(a.description().find("close people"), std::string::npos);
+  EXPECT_EQ(plain.description().find("close"), std::string::npos);
+
+  options = smallOptions(2, 1);
+  options.close_people = true;
+  const std::string dir = testing::TempDir() + "pf2_synth_close";
+  SyntheticSequence(options).writeTumFolder(dir);
+  EXPECT_NE(readFile(dir + "/gt/README.md").find("Made with close people"), std::string::npos);
+}
+
 TEST(SyntheticSequence, RejectsBadOptions) {
   SyntheticSequence::Options options = smallOptions(0, 0);
   EXPECT_THROW(SyntheticSequence{options}, Error);
@@ -297,6 +374,13 @@ TEST(SyntheticSequence, RejectsBadOptions) {
   EXPECT_THROW(SyntheticSequence{options}, Error);
   options = smallOptions(10, 0);
   options.sensor.misalign_px = 200;
+  EXPECT_THROW(SyntheticSequence{options}, Error);
+  options = smallOptions(10, 1);
+  options.close_people = true;
+  options.crowd.close.min_distance = 0.2;
+  EXPECT_THROW(SyntheticSequence{options}, Error);
+  options.crowd.close.min_distance = 0.7;
+  options.crowd.close.max_bend = 1.0;
   EXPECT_THROW(SyntheticSequence{options}, Error);
   const SyntheticSequence sequence(smallOptions(2, 0));
   EXPECT_THROW(sequence.frame(2), Error);
