@@ -7,9 +7,9 @@ namespace pf2 {
 DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   DualBBoxFilter::Options options;
   // Backend masks on: with the learned detector 6 of 7 pf2_synth sequences track better with them
-  // (xyz 3.1 mm instead of 11.4, loop 18.8 instead of 27.3); the real Bonn crowd frames track
-  // better with boxes only (filter.use_mask false: 2.4 cm instead of 4.8; docs/BENCHMARKS.md).
-  // The people's centres take the masks either way.
+  // (xyz 3.1 mm instead of 11.4, loop 18.8 instead of 27.3) and the human tracks need them (8
+  // identity switches without, gt masks); the real Bonn crowd frames track better with boxes only
+  // (filter.use_mask false: 2.4 cm instead of 4.8; docs/BENCHMARKS.md, docs/DESIGN_NOTES.md).
   options.use_mask = true;
   // The box's depth rule only near the mask: Bonn crowd 4.8 cm (0 px: 9.6, 40 px: 7.7), pf2_synth
   // halfsphere with the learned detector 1.7 cm (0 px: 2.4, 40 px: 9.2); docs/BENCHMARKS.md.
