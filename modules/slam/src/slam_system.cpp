@@ -14,8 +14,6 @@
 #include <sstream>
 #include <thread>
 
-#include <opencv2/imgproc.hpp>
-
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
 #include "pf2/humans/human_position.h"
@@ -114,38 +112,25 @@ struct FrameRecord {
   std::vector<std::pair<int, Eigen::Vector3d>> people_c;
 };
 
-// Eq. 2 for each person the filter separated: box centre at the mean depth d_m of the person.
-// A person detected with a mask takes d_m over the mask's own depths inside their principal
-// interval (widened by `margin` when in_interval): the mask is the body, whatever rule removed
-// depth around it (the box rule also takes the floor at the feet and the wall beside them).
-// Without a mask, d_m is over D_h^t, the filter's depths of the person's intervals. People whose
-// depths cover less than min_area of the image get no centre.
+// Eq. 2 for each person the filter separated: box centre at the mean depth of their D_h^t. With
+// in_interval, a person whose detection came with a mask averages only the depths inside their
+// interval widened by `margin`: the dilated mask is taken whatever its depth, so it brings in the
+// edges of whoever stands in front or behind (without a mask the filter has already kept only
+// depths of the person's intervals). People whose depths cover less than min_area of the image
+// get no centre.
 std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
-                                           const cv::Mat& depth, const CameraIntrinsics& K,
-                                           const HistogramOptions& histogram, bool in_interval,
-                                           double margin, double min_area) {
+                                           const CameraIntrinsics& K, bool in_interval, double margin,
+                                           double min_area) {
   const double min_pixels = min_area * filtered.static_depth.total();
   std::vector<Eigen::Vector3d> centres_c;
   for (const DualBBoxFilter::Person& person : filtered.people) {
     const bool masked = person.detection >= 0 && person.detection < static_cast<int>(detections.people.size()) &&
                         !detections.people[person.detection].mask.empty();
-    double lo = 0.0, hi = std::numeric_limits<double>::infinity();
-    cv::Mat depth_h = person.depth;
-    if (masked) {
-      const cv::Mat& mask = detections.people[person.detection].mask;
-      const cv::Rect box = scaledBoxRect(person.box, 1.0, depth.size());
-      const cv::Rect area = cv::boundingRect(mask) | box;
-      const DepthInterval interval = principalInterval(depth, mask, area, histogram);
-      if (!interval.valid) continue;
-      depth_h = cv::Mat::zeros(area.size(), CV_32F);
-      depth(area).copyTo(depth_h, mask(area));
-      if (in_interval) {
-        lo = interval.min - margin;
-        hi = interval.max + margin;
-      }
-    }
+    const bool use_interval = in_interval && masked && person.interval.valid;
     long pixels = 0;
-    const double d_m = meanDepth(depth_h, lo, hi, &pixels);
+    const double d_m = meanDepth(person.depth, use_interval ? person.interval.min - margin : 0.0,
+                                 use_interval ? person.interval.max + margin : std::numeric_limits<double>::infinity(),
+                                 &pixels);
     if (pixels == 0 || pixels < min_pixels) continue;
     centres_c.push_back(humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr,
                                             person.box.y_lr, d_m, K));
@@ -349,8 +334,7 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
         // tracked now; a frame without a pose counts as one where nobody was seen (tracks age).
         ScopedStageTimer timer(&stats_, "humans");
         const std::vector<Eigen::Vector3d> people_c =
-            personCentres(filtered, detections, frame.depth, frame.intrinsics, options_.filter.human_histogram,
-                          options_.human_depth_in_interval,
+            personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
                           options_.filter.human_margin, options_.human_min_area);
         std::vector<Eigen::Vector3d> people_w;
         if (record.has_pose) {

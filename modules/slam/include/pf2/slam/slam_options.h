@@ -32,10 +32,9 @@ struct SlamOptions {
   // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
   // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
   bool track_humans = true;
-  // For a person detected with a mask: d_m of eq. 2 over the mask's depths inside the principal
-  // interval of the mask's histogram widened by the filter's human_margin (a mask's edge pixels
-  // may be a person in front or the wall behind); false: over all the mask's depths. A person
-  // without a mask: over D_h^t, as the paper writes it.
+  // For a person detected with a mask: d_m of eq. 2 over their depths inside their principal
+  // interval (h_min, h_max) widened by the filter's human_margin only (the dilated mask also takes
+  // the edges of people in front or behind); false: over all of D_h^t, as the paper writes it.
   bool human_depth_in_interval = true;
   // A person whose d_m rests on fewer depths than this fraction of the image's pixels gets no
   // centre: a sliver of a person at the image border or behind another gives a box centre far
