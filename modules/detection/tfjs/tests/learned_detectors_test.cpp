@@ -141,7 +141,7 @@ TEST(LearnedDetectors, NoPeopleOnTheDeskSequence) {
 
 // TUM fr1/rpy: a desk under fast rotation with motion blur, no people. The selfie model assumes
 // someone is in view and marks most of these frames (often the whole image) as "person"; MoveNet
-// finds no pose with 5 confident keypoints, so "learned" must report no one (before its pose
+// finds no pose with 4 confident keypoints, so "learned" must report no one (before its pose
 // rule it reported a person on 70 of the 120 frames, mostly 0 0 640 480).
 TEST(LearnedDetectors, NoPeopleOnTheBlurredRpySequence) {
   const std::string dir = std::string(PF2_SHARED_DATA) + "/tum_fr1_rpy_120";
