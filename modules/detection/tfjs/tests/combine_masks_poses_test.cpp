@@ -61,8 +61,8 @@ TEST(CombineMasksAndPoses, DropsUnsupportedMasksAndWeakPosesKeepsMasklessPoses) 
   cv::Mat mask(kH, kW, CV_8U, cv::Scalar(0));
   cv::rectangle(mask, cv::Rect(20, 10, 30, 80), cv::Scalar(255), cv::FILLED);
   const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.7));
-  PersonDetection weak = pose(15, 55, 35);  // over the mask, but only 4 confident keypoints
-  for (size_t k = 4; k < weak.keypoints.size(); ++k) weak.keypoints[k].score = 0.2f;
+  PersonDetection weak = pose(15, 55, 35);  // over the mask, but only 3 confident keypoints
+  for (size_t k = 3; k < weak.keypoints.size(); ++k) weak.keypoints[k].score = 0.2f;
   const std::vector<PersonDetection> people = combineMasksAndPoses(
       {component(mask)}, {weak, pose(140, 180, 160)}, probability, LearnedPersonDetector::Options());
   ASSERT_EQ(people.size(), 1u);
@@ -71,8 +71,8 @@ TEST(CombineMasksAndPoses, DropsUnsupportedMasksAndWeakPosesKeepsMasklessPoses) 
   EXPECT_FLOAT_EQ(people[0].box.x_ul, 140.f);
   EXPECT_FLOAT_EQ(people[0].score, 0.4f);
 
-  // With the weak pose's fifth keypoint confident it supports the mask and takes all of it.
-  weak.keypoints[4].score = 0.3f;
+  // With the weak pose's fourth keypoint confident it supports the mask and takes all of it.
+  weak.keypoints[3].score = 0.3f;
   const std::vector<PersonDetection> supported =
       combineMasksAndPoses({component(mask)}, {weak}, probability, LearnedPersonDetector::Options());
   ASSERT_EQ(supported.size(), 1u);
