@@ -33,7 +33,8 @@ const char* kUsage =
     "                       none (no person removal), gt (ground-truth oracle of pf2_synth folders),\n"
     "                       hog, file, yolo, selfie, movenet, learned\n"
     "  --eval GROUNDTRUTH   print ATE (and RPE over 1 s) of the trajectory at the end\n"
-    "  --gt-format F        tum (default) or bonn: GROUNDTRUTH holds Bonn RGB-D Dynamic marker poses\n"
+    "  --gt-format F        tum or bonn (GROUNDTRUTH holds Bonn RGB-D Dynamic marker poses); default\n"
+    "                       bonn for a folder named rgbd_bonn_*, else tum\n"
     "  --config FILE        'section.key value' settings (docs/slam.md lists the keys)\n"
     "  --frames N           process only the first N frames\n"
     "  --no-map             track only; no TSDF/OctoMap\n"
@@ -89,8 +90,9 @@ int run(int argc, char** argv) {
   if (cli.flag("--obj")) options.map_files.mesh_obj = true;
   if (cli.flag("--quiet")) options.progress = false;
   std::optional<std::string> eval_path = cli.value("--eval");
-  const pf2::TrajectoryFormat gt_format =
-      pf2::parseTrajectoryFormat(cli.value("--gt-format", "tum"), "--gt-format");
+  const std::optional<std::string> gt_format_name = cli.value("--gt-format");
+  std::optional<pf2::TrajectoryFormat> gt_format;
+  if (gt_format_name) gt_format = pf2::parseTrajectoryFormat(*gt_format_name, "--gt-format");
   const std::string distortion = cli.value("--distortion", "auto");
   pf2::TumSequence::Options tum;
   tum.calibration_file = cli.value("--calibration", "");
@@ -137,7 +139,10 @@ int run(int argc, char** argv) {
                 t.p90_ms, t.count);
   }
   if (eval_path) {
-    const pf2::Trajectory ground_truth = pf2::readTrajectory(*eval_path, gt_format);
+    // Default: a Bonn folder as published (rgbd_bonn_*) holds marker poses, anything else camera poses.
+    const pf2::TrajectoryFormat format = gt_format.value_or(
+        pf2::isBonnDynamicFolder(sequence_dir) ? pf2::TrajectoryFormat::kBonn : pf2::TrajectoryFormat::kTum);
+    const pf2::Trajectory ground_truth = pf2::readTrajectory(*eval_path, format);
     const pf2::AteResult ate = pf2::computeAte(ground_truth, system.trajectory());
     std::printf("ate.rmse    %.4f m  (mean %.4f, max %.4f, %d poses)\n", ate.translation.rmse,
                 ate.translation.mean, ate.translation.max, ate.translation.count);

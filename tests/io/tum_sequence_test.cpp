@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/io/trajectory_io.h"
 
 namespace pf2 {
 namespace {
@@ -73,6 +74,16 @@ TEST(TumSequence, BonnFolderWithoutCalibrationUsesBonnPreset) {
   EXPECT_DOUBLE_EQ(k.cy, 237.756098);
   EXPECT_TRUE(isBonnDynamicFolder(dir));
   EXPECT_FALSE(isBonnDynamicFolder(testing::TempDir() + "my_rgbd_bonn_copy"));
+  // Its groundtruth.txt holds marker poses: groundTruth() hands out camera poses.
+  std::ofstream(dir + "/groundtruth.txt") << "# Bonn marker poses\n"
+                                          << "10.0 -0.451159 -1.61241 1.52569 0.16492 0.0766074 -0.0125995 -0.983247\n";
+  const Trajectory cameras = TumSequence(dir).groundTruth();
+  const Trajectory converted = readTrajectory(dir + "/groundtruth.txt", TrajectoryFormat::kBonn);
+  const Trajectory as_written = readTrajectory(dir + "/groundtruth.txt", TrajectoryFormat::kTum);
+  ASSERT_EQ(cameras.size(), 1u);
+  EXPECT_LT((cameras[0].T_w_c.matrix() - converted[0].T_w_c.matrix()).norm(), 1e-12);
+  EXPECT_GT((cameras[0].T_w_c.matrix() - as_written[0].T_w_c.matrix()).norm(), 0.1);
+  std::remove((dir + "/groundtruth.txt").c_str());
   // A camera.txt in the folder still wins over the preset.
   std::ofstream(dir + "/camera.txt") << "fx 500\nfy 501\ncx 319.5\ncy 239.5\nwidth 640\nheight 480\n";
   EXPECT_DOUBLE_EQ(TumSequence(dir).intrinsics().fx, 500.0);

@@ -114,7 +114,10 @@ Frame TumSequence::frame(size_t i) const {
 bool TumSequence::hasGroundTruth() const { return fileExists(join(folder_, "groundtruth.txt")); }
 
 Trajectory TumSequence::groundTruth() const {
-  return hasGroundTruth() ? readTrajectory(join(folder_, "groundtruth.txt")) : Trajectory();
+  if (!hasGroundTruth()) return Trajectory();
+  // A Bonn folder as published holds marker poses: every user of this wants camera poses.
+  return readTrajectory(join(folder_, "groundtruth.txt"),
+                        isBonnDynamicFolder(folder_) ? TrajectoryFormat::kBonn : TrajectoryFormat::kTum);
 }
 
 }  // namespace pf2

@@ -44,7 +44,8 @@ class TumSequence : public FrameSource {
   // Thread safe (reads only).
   Frame frame(size_t i) const override;
 
-  // groundtruth.txt of the folder, empty when the folder has none.
+  // groundtruth.txt of the folder as camera poses (a Bonn folder's marker poses converted),
+  // empty when the folder has none.
   bool hasGroundTruth() const;
   Trajectory groundTruth() const;
 
