@@ -105,6 +105,7 @@ int run(int argc, char** argv) {
   synth.seed = static_cast<std::uint64_t>(cli.integer("--seed", 1));
   const auto positionals = cli.positionals();
   if (positionals.size() > 1) throw pf2::Error("expected at most one SEQUENCE_DIR (see -h)");
+  pf2::validateOptions(options);  // before anything is generated or written
 
   std::string sequence_dir;
   if (positionals.empty()) {

@@ -172,6 +172,32 @@ TEST(SlamSystem, NoPoseJumpsOnASequenceBuiltToBreakTheOdometry) {
   EXPECT_LT(computeAte(groundTruth(sequence), poses).translation.max, 1.0);
 }
 
+// Settings outside their declared range are refused before any work, naming the setting.
+TEST(SlamSystem, SettingsOutOfRangeAreNamed) {
+  const auto expectRefused = [](SlamOptions options, const std::string& key) {
+    try {
+      SlamSystem system(options);
+      FAIL() << key << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("range"), std::string::npos) << e.what();
+    }
+  };
+  SlamOptions options;
+  options.filter.mask_box_reach = -5;
+  expectRefused(options, "filter.mask_reach");
+  options = SlamOptions();
+  options.tracker.max_bridged_frames = -1;
+  expectRefused(options, "tracker.max_bridged_frames");
+  options = SlamOptions();
+  options.tracker.odometry.min_intensity_sigma = 0.5;  // above intensity_sigma
+  expectRefused(options, "tracker.min_intensity_sigma");
+  options = SlamOptions();
+  options.geometric_margin = 0.0;
+  expectRefused(options, "filter.geometric_margin");
+  EXPECT_NO_THROW(SlamSystem{SlamOptions()});
+}
+
 class EmptySource : public FrameSource {
  public:
   size_t size() const override { return 0; }

@@ -1,5 +1,8 @@
 #include "pf2/slam/slam_options.h"
 
+#include <limits>
+#include <sstream>
+
 #include "pf2/core/error.h"
 
 namespace pf2 {
@@ -106,6 +109,35 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   o.prefetch_frames = config.integer("run.prefetch_frames", o.prefetch_frames);
   o.progress = config.boolean("run.progress", o.progress);
   config.checkAllUsed();
+}
+
+namespace {
+
+// Throws pf2::Error naming the key, the value and the allowed range when value is outside [lo, hi].
+void checkRange(const char* key, double value, double lo, double hi, const char* unit) {
+  if (value >= lo && value <= hi) return;
+  std::ostringstream message;
+  message << "setting " << key << " = " << value << " is outside its range [" << lo << ", " << hi << "] "
+          << unit;
+  throw Error(message.str());
+}
+
+}  // namespace
+
+void validateOptions(const SlamOptions& o) {
+  const double inf = std::numeric_limits<double>::infinity();
+  checkRange("filter.mask_reach", o.filter.mask_box_reach, 0, 200, "pixels");
+  checkRange("filter.geometric_margin", o.geometric_margin, 0.01, 2.0, "metres");
+  checkRange("filter.geometric_opening", o.geometric_opening, 0, 50, "pixels");
+  checkRange("filter.geometric_keyframes", o.prediction.keyframes, 1, 10, "keyframes");
+  const RgbdOdometry::Options& d = o.tracker.odometry;
+  checkRange("tracker.prior_sigma_translation", d.prior_sigma_translation, 0, inf, "metres (0 = no prior)");
+  checkRange("tracker.prior_sigma_rotation", d.prior_sigma_rotation, 0, inf, "radians (0 = no prior)");
+  checkRange("tracker.depth_sigma", d.depth_sigma, 1e-4, 1.0, "metres at 1 m");
+  checkRange("tracker.intensity_sigma", d.intensity_sigma, 1e-3, 1.0, "intensity [0, 1]");
+  checkRange("tracker.min_intensity_sigma", d.min_intensity_sigma, 0, d.intensity_sigma,
+             "intensity (0 = not measured; at most tracker.intensity_sigma)");
+  checkRange("tracker.max_bridged_frames", o.tracker.max_bridged_frames, 0, 300, "frames");
 }
 
 }  // namespace pf2

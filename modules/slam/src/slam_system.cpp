@@ -209,7 +209,7 @@ std::string summaryJson(const SlamRunSummary& s, const StageStats& stages,
 
 }  // namespace
 
-SlamSystem::SlamSystem(const SlamOptions& options) : options_(options) {}
+SlamSystem::SlamSystem(const SlamOptions& options) : options_(options) { validateOptions(options_); }
 SlamSystem::~SlamSystem() = default;
 
 SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& sequence_folder,
@@ -218,9 +218,6 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   SlamRunSummary summary;
   std::unique_ptr<HumanDetector> detector = makeDetector(options_, sequence_folder, &summary.detector);
   DualBBoxFilter filter(options_.filter);
-  if (!(options_.geometric_margin > 0.0)) throw Error("filter.geometric_margin must be > 0 (metres)");
-  if (options_.geometric_opening < 0 || options_.geometric_opening > 50)
-    throw Error("filter.geometric_opening must be in [0, 50] pixels");
   KeyframeDepthPrediction::Options prediction_options = options_.prediction;
   prediction_options.distortion = options_.tracker.odometry.distortion;
   KeyframeDepthPrediction prediction(prediction_options);

@@ -64,4 +64,9 @@ struct SlamOptions {
 // their values) and fails on keys nobody reads. Throws pf2::Error naming file, line and key.
 void applyConfig(const ConfigFile& config, SlamOptions* options);
 
+// Checks the settings with a declared range (the pipeline's own: geometric addition, mask reach,
+// odometry noise and prior, bridging); throws pf2::Error naming the setting, its value and the
+// allowed range. SlamSystem's constructor calls it.
+void validateOptions(const SlamOptions& options);
+
 }  // namespace pf2
