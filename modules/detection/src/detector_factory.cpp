@@ -5,8 +5,8 @@
 
 #include "pf2/core/error.h"
 
-// ---- Learned (TF.js) backends: headers. Owned by the "learned" engineer (modules/detection/tfjs);
-// ---- PF2_HAVE_TFJS is defined by modules/detection/CMakeLists.txt when target pf2_tfjs exists.
+// Learned (TF.js) backends, modules/detection/tfjs: PF2_HAVE_TFJS is defined by
+// modules/detection/CMakeLists.txt when the target pf2_tfjs exists.
 #ifdef PF2_HAVE_TFJS
 #include "pf2/detection/tfjs_factory.h"
 #endif
@@ -23,16 +23,13 @@ const std::map<std::string, Factory>& registry() {
       {"hog", [](const DetectorOptions& o) { return std::make_unique<HogDetector>(o.hog); }},
       {"file", [](const DetectorOptions& o) { return std::make_unique<FileDetector>(o.file); }},
       {"yolo", [](const DetectorOptions& o) { return std::make_unique<YoloDetector>(o.yolo); }},
-// ---- Learned (TF.js) backends: registration. The "learned" engineer adds the "selfie" and
-// ---- "movenet" entries here (and only here), e.g.
-// ----   {"selfie", [](const DetectorOptions& o) { return createSelfieDetector(o.extra); }},
-// ---- their options come from DetectorOptions::extra ("key" -> "value").
+// Learned (TF.js) backends: "selfie", "movenet" and "learned" are registered here (and only here);
+// their options come from DetectorOptions::extra ("key" -> "value").
 #ifdef PF2_HAVE_TFJS
       {"selfie", [](const DetectorOptions& o) { return createSelfieDetector(o.extra); }},
       {"movenet", [](const DetectorOptions& o) { return createMoveNetDetector(o.extra); }},
       {"learned", [](const DetectorOptions& o) { return createLearnedDetector(o.extra); }},
 #endif
-// ---- end of learned backend registration.
   };
   return factories;
 }
