@@ -207,6 +207,258 @@ std::string summaryJson(const SlamRunSummary& s, const StageStats& stages,
   return out.str();
 }
 
+// Decodes frames ahead of the front end in its own thread (decoding overlaps the front end's work).
+class FrameLoader {
+ public:
+  FrameLoader(const FrameSource& source, size_t frame_count, int prefetch, StageStats* stats)
+      : queue_(prefetch), thread_([this, &source, frame_count, stats] { load(source, frame_count, stats); }) {}
+  ~FrameLoader() { stop(); }
+  // The next frame, or nullopt after the last; rethrows a decoding error at the frame it hit.
+  std::optional<Frame> next() {
+    std::optional<LoadedFrame> item = queue_.pop();
+    if (!item) return std::nullopt;
+    if (item->error) std::rethrow_exception(item->error);
+    return std::move(item->frame);
+  }
+  void stop() {
+    queue_.close();
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  void load(const FrameSource& source, size_t frame_count, StageStats* stats) {
+    for (size_t i = 0; i < frame_count; ++i) {
+      LoadedFrame item;
+      try {
+        ScopedStageTimer timer(stats, "load");
+        item.frame = source.frame(i);
+      } catch (...) {
+        item.error = std::current_exception();
+      }
+      const bool failed = static_cast<bool>(item.error);
+      queue_.push(std::move(item));
+      if (failed) break;
+    }
+    queue_.close();
+  }
+
+  WorkQueue<LoadedFrame> queue_;
+  std::thread thread_;
+};
+
+// Fuses keyframes (and in-between frames) into the map in its own thread and follows the pose
+// graph's corrections. Only that thread touches the Mapper until stop().
+class MappingThread {
+ public:
+  MappingThread(Mapper* mapper, const KeyframeMap* keyframes, StageStats* stats)
+      : mapper_(mapper), keyframes_(keyframes), stats_(stats), thread_([this] { fuse(); }) {}
+  ~MappingThread() { stop(); }
+  void push(FusionJob job) { jobs_.push(std::move(job)); }
+  // Waits for the queue to drain; rethrows the mapper's error, if any.
+  void finish() {
+    stop();
+    if (error_) std::rethrow_exception(error_);
+  }
+  void stop() {
+    jobs_.close();
+    if (thread_.joinable()) thread_.join();
+  }
+  // Moves every fused frame to its keyframe's pose in `keyframe_poses`. After finish() only.
+  void moveTo(const std::map<int, Eigen::Isometry3d>& keyframe_poses) {
+    mapper_->updateKeyframePoses(fusedPoses(keyframe_poses, anchors_));
+  }
+
+ private:
+  void fuse() {
+    uint64_t revision_seen = 0;
+    try {
+      while (auto job = jobs_.pop()) {
+        ScopedStageTimer timer(stats_, "map");
+        anchors_[job->id] = {job->keyframe_id, job->T_k_c};
+        mapper_->addKeyframe(job->id, job->static_depth, job->rgb, job->K, job->T_w_c);
+        const uint64_t revision = keyframes_->revision();
+        if (revision != revision_seen) {
+          revision_seen = revision;
+          moveTo(keyframes_->poses());
+        }
+      }
+    } catch (...) {
+      error_ = std::current_exception();
+      while (jobs_.pop()) {
+      }
+    }
+  }
+
+  Mapper* mapper_;
+  const KeyframeMap* keyframes_;
+  StageStats* stats_;
+  WorkQueue<FusionJob> jobs_{64};
+  std::map<int, std::pair<int, Eigen::Isometry3d>> anchors_;  // fused id -> (keyframe id, T_k_c)
+  std::exception_ptr error_;
+  std::thread thread_;
+};
+
+// One run's stages and state: the front end's steps for each frame, and the outputs at the end.
+class PipelineRun {
+ public:
+  PipelineRun(const SlamOptions& options, std::unique_ptr<HumanDetector> detector, StageStats* stats)
+      : options_(options),
+        stats_(stats),
+        detector_(std::move(detector)),
+        filter_(options.filter),
+        prediction_(predictionOptions(options)),
+        free_space_(std::make_shared<PredictedDepthEvidence>(options.geometric_margin, options.geometric_opening)),
+        tracker_(options.tracker),
+        mapper_(options.mapper),
+        humans_(options.humans),
+        track_humans_(options.track_humans && detector_ != nullptr) {
+    filter_.setDynamicEvidence(free_space_);
+    if (options.build_map) mapping_ = std::make_unique<MappingThread>(&mapper_, &tracker_.keyframes(), stats);
+  }
+
+  // The front end on one frame: people removed, camera tracked, people placed, map fed.
+  void process(const Frame& frame, SlamRunSummary* summary) {
+    ScopedStageTimer frame_timer(stats_, "frame");
+    Detections detections;
+    DualBBoxFilter::Result filtered;
+    Frame static_frame = frame;
+    if (detector_) removePeople(frame, &detections, &filtered, &static_frame);
+    TrackResult result;
+    {
+      ScopedStageTimer timer(stats_, "track");
+      result = tracker_.track(static_frame, filtered.removed);
+    }
+    FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
+                       Eigen::Isometry3d::Identity(), {}};
+    if (track_humans_) placePeople(frame, detections, filtered, result, &record);
+    count(result, &record, summary);
+    // A bridged pose is the motion prior's guess: good enough to place people for a moment,
+    // not to fuse depth into the map.
+    if (mapping_ && record.has_pose && result.status != TrackStatus::kBridged)
+      feedMap(frame, static_frame.depth, result, summary->frames);
+    records_.push_back(std::move(record));
+    ++summary->frames;
+  }
+
+  // Waits for the back end and the map; then the summary's last figures.
+  void finish(SlamRunSummary* summary) {
+    tracker_.finish();
+    if (mapping_) mapping_->finish();
+    summary->keyframes = static_cast<int>(tracker_.keyframes().size());
+  }
+  void stopThreads() {
+    if (mapping_) mapping_->stop();
+  }
+
+  // trajectory.txt, humans.txt, the map files and stats.json, with the corrected poses.
+  void write(const std::string& out_dir, const SlamRunSummary& summary, Trajectory* trajectory) {
+    // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
+    trajectory->clear();
+    const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker_.keyframes().poses();
+    for (const FrameRecord& record : records_) {
+      if (!record.has_pose) continue;
+      trajectory->push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
+    }
+    writeTrajectory(out_dir + "/trajectory.txt", *trajectory);
+    if (track_humans_) writeHumans(out_dir + "/humans.txt", records_, keyframe_poses);
+    if (mapping_) {
+      ScopedStageTimer timer(stats_, "map_export");
+      mapping_->moveTo(keyframe_poses);
+      mapper_.exportMap(out_dir, options_.map_files);
+    }
+    const std::string json = summaryJson(summary, *stats_, tracker_.stats(), records_);
+    writeFileAtomically(out_dir + "/stats.json", [&](std::ostream& out) { out << json; });
+  }
+
+  size_t keyframeCount() const { return tracker_.keyframes().size(); }
+
+ private:
+  static KeyframeDepthPrediction::Options predictionOptions(const SlamOptions& options) {
+    KeyframeDepthPrediction::Options prediction = options.prediction;
+    prediction.distortion = options.tracker.odometry.distortion;
+    return prediction;
+  }
+
+  // Detection and the Dual-BBox filter: static_frame gets the static depth D_b.
+  void removePeople(const Frame& frame, Detections* detections, DualBBoxFilter::Result* filtered,
+                    Frame* static_frame) {
+    {
+      ScopedStageTimer timer(stats_, "detect");
+      *detections = detector_->detect(frame);
+    }
+    ScopedStageTimer timer(stats_, "filter");
+    filter_.setIntrinsics(frame.intrinsics);
+    // Constant-velocity guess of this frame's motion, for the temporal guard.
+    const Eigen::Isometry3d T_cur_prev =
+        poses_in_row_ >= 2 ? T_w_prev_.inverse() * T_w_prevprev_ : Eigen::Isometry3d::Identity();
+    if (options_.filter.geometric) {
+      // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
+      free_space_->setPrediction(poses_in_row_ >= 1 ? prediction_.predict(tracker_.keyframes(),
+                                                                          T_w_prev_ * T_cur_prev.inverse(),
+                                                                          frame.intrinsics)
+                                                    : cv::Mat());
+    }
+    *filtered = filter_.filter(frame.depth, *detections, T_cur_prev);
+    static_frame->depth = filtered->static_depth;
+  }
+
+  // Eq. 2-3 after tracking, so the tracker waits for nothing. Associated with this frame's pose as
+  // tracked now; a frame without a pose counts as one where nobody was seen (tracks age).
+  void placePeople(const Frame& frame, const Detections& detections, const DualBBoxFilter::Result& filtered,
+                   const TrackResult& result, FrameRecord* record) {
+    ScopedStageTimer timer(stats_, "humans");
+    const std::vector<Eigen::Vector3d> people_c =
+        personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
+                      options_.filter.human_margin, options_.human_min_area);
+    std::vector<Eigen::Vector3d> people_w;
+    if (record->has_pose) {
+      for (const Eigen::Vector3d& p_c : people_c) people_w.push_back(humanCentreInWorld(result.T_w_c, p_c));
+    }
+    const std::vector<int> ids = humans_.update(frame.timestamp, people_w);
+    for (size_t k = 0; k < ids.size(); ++k) record->people_c.emplace_back(ids[k], people_c[k]);
+  }
+
+  // The summary's counts and the motion the next frame's guess repeats.
+  void count(const TrackResult& result, FrameRecord* record, SlamRunSummary* summary) {
+    if (record->has_pose) {
+      record->T_k_c = result.T_k_c;
+      T_w_prevprev_ = T_w_prev_;
+      T_w_prev_ = result.T_w_c;
+      ++poses_in_row_;
+      ++summary->tracked;
+    } else {
+      poses_in_row_ = 0;
+      ++summary->lost;
+    }
+    if (result.status == TrackStatus::kRelocalised) ++summary->relocalised;
+    if (result.status == TrackStatus::kBridged) ++summary->bridged;
+  }
+
+  // A new keyframe, or every fuse_every-th frame, goes to the mapping thread.
+  void feedMap(const Frame& frame, const cv::Mat& static_depth, const TrackResult& result, int frame_number) {
+    const bool in_between = options_.fuse_every > 0 && frame_number % options_.fuse_every == 0;
+    if (!result.keyframe_created && !in_between) return;
+    const int id = result.keyframe_created ? result.keyframe_id : kFusedFrameIds + frame_number;
+    mapping_->push({id, result.keyframe_id, result.T_k_c, static_depth, frame.rgb, frame.intrinsics,
+                    result.T_w_c});
+  }
+
+  const SlamOptions& options_;
+  StageStats* stats_;
+  std::unique_ptr<HumanDetector> detector_;
+  DualBBoxFilter filter_;
+  KeyframeDepthPrediction prediction_;
+  std::shared_ptr<PredictedDepthEvidence> free_space_;
+  Tracker tracker_;
+  Mapper mapper_;
+  HumanTracker humans_;
+  const bool track_humans_;
+  std::unique_ptr<MappingThread> mapping_;  // declared after what it uses: stopped first
+  std::vector<FrameRecord> records_;
+  Eigen::Isometry3d T_w_prev_ = Eigen::Isometry3d::Identity(), T_w_prevprev_ = Eigen::Isometry3d::Identity();
+  int poses_in_row_ = 0;
+};
+
 }  // namespace
 
 SlamSystem::SlamSystem(const SlamOptions& options) : options_(options) { validateOptions(options_); }
@@ -216,191 +468,33 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
                                const std::string& out_dir) {
   makeDirectory(out_dir);
   SlamRunSummary summary;
-  std::unique_ptr<HumanDetector> detector = makeDetector(options_, sequence_folder, &summary.detector);
-  DualBBoxFilter filter(options_.filter);
-  KeyframeDepthPrediction::Options prediction_options = options_.prediction;
-  prediction_options.distortion = options_.tracker.odometry.distortion;
-  KeyframeDepthPrediction prediction(prediction_options);
-  const auto free_space = std::make_shared<PredictedDepthEvidence>(options_.geometric_margin,
-                                                                   options_.geometric_opening);
-  filter.setDynamicEvidence(free_space);
-  Tracker tracker(options_.tracker);
-  Mapper mapper(options_.mapper);
-  const bool track_humans = options_.track_humans && detector != nullptr;
-  HumanTracker humans(options_.humans);
-
+  PipelineRun pipeline(options_, makeDetector(options_, sequence_folder, &summary.detector), &stats_);
   size_t frame_count = source.size();
   if (options_.max_frames > 0) frame_count = std::min<size_t>(frame_count, options_.max_frames);
   if (frame_count == 0) throw Error("the sequence has no frames: " + source.description());
 
-  // Loader thread: decoding overlaps the front end's work.
-  WorkQueue<LoadedFrame> loaded(options_.prefetch_frames);
-  std::thread loader([&] {
-    for (size_t i = 0; i < frame_count; ++i) {
-      LoadedFrame item;
-      try {
-        ScopedStageTimer timer(&stats_, "load");
-        item.frame = source.frame(i);
-      } catch (...) {
-        item.error = std::current_exception();
-      }
-      const bool failed = static_cast<bool>(item.error);
-      loaded.push(std::move(item));
-      if (failed) break;
-    }
-    loaded.close();
-  });
-
-  // Mapper thread: fuses keyframes and follows the pose graph's corrections.
-  WorkQueue<FusionJob> keyframe_jobs(64);
-  std::exception_ptr mapper_error;
-  std::thread mapping;
-  // Fused id -> (keyframe id, T_k_c); only the mapper thread touches it until it is joined.
-  std::map<int, std::pair<int, Eigen::Isometry3d>> fused_anchors;
-  if (options_.build_map) {
-    mapping = std::thread([&] {
-      uint64_t revision_seen = 0;
-      try {
-        while (auto job = keyframe_jobs.pop()) {
-          ScopedStageTimer timer(&stats_, "map");
-          fused_anchors[job->id] = {job->keyframe_id, job->T_k_c};
-          mapper.addKeyframe(job->id, job->static_depth, job->rgb, job->K, job->T_w_c);
-          const uint64_t revision = tracker.keyframes().revision();
-          if (revision != revision_seen) {
-            revision_seen = revision;
-            mapper.updateKeyframePoses(fusedPoses(tracker.keyframes().poses(), fused_anchors));
-          }
-        }
-      } catch (...) {
-        mapper_error = std::current_exception();
-        while (keyframe_jobs.pop()) {
-        }
-      }
-    });
-  }
-  const auto stop_threads = [&] {
-    loaded.close();
-    keyframe_jobs.close();
-    if (loader.joinable()) loader.join();
-    if (mapping.joinable()) mapping.join();
-  };
-
-  std::vector<FrameRecord> records;
+  FrameLoader loader(source, frame_count, options_.prefetch_frames, &stats_);
   const auto start = std::chrono::steady_clock::now();
-  Eigen::Isometry3d T_w_prev = Eigen::Isometry3d::Identity(), T_w_prevprev = T_w_prev;
-  int poses_in_row = 0;
   try {
-    while (auto item = loaded.pop()) {
-      if (item->error) std::rethrow_exception(item->error);
-      const Frame& frame = item->frame;
-      ScopedStageTimer frame_timer(&stats_, "frame");
-      Frame static_frame = frame;
-      cv::Mat person_mask;
-      Detections detections;
-      DualBBoxFilter::Result filtered;
-      if (detector) {
-        {
-          ScopedStageTimer timer(&stats_, "detect");
-          detections = detector->detect(frame);
-        }
-        ScopedStageTimer timer(&stats_, "filter");
-        filter.setIntrinsics(frame.intrinsics);
-        // Constant-velocity guess of this frame's motion, for the temporal guard.
-        const Eigen::Isometry3d T_cur_prev =
-            poses_in_row >= 2 ? T_w_prev.inverse() * T_w_prevprev : Eigen::Isometry3d::Identity();
-        if (options_.filter.geometric) {
-          // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
-          free_space->setPrediction(poses_in_row >= 1 ? prediction.predict(tracker.keyframes(),
-                                                                           T_w_prev * T_cur_prev.inverse(),
-                                                                           frame.intrinsics)
-                                                      : cv::Mat());
-        }
-        filtered = filter.filter(frame.depth, detections, T_cur_prev);
-        static_frame.depth = filtered.static_depth;
-        person_mask = filtered.removed;
-      }
-      TrackResult result;
-      {
-        ScopedStageTimer timer(&stats_, "track");
-        result = tracker.track(static_frame, person_mask);
-      }
-      FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
-                         Eigen::Isometry3d::Identity(), {}};
-      if (track_humans) {
-        // After tracking, so the tracker waits for nothing. Associated with this frame's pose as
-        // tracked now; a frame without a pose counts as one where nobody was seen (tracks age).
-        ScopedStageTimer timer(&stats_, "humans");
-        const std::vector<Eigen::Vector3d> people_c =
-            personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
-                          options_.filter.human_margin, options_.human_min_area);
-        std::vector<Eigen::Vector3d> people_w;
-        if (record.has_pose) {
-          for (const Eigen::Vector3d& p_c : people_c) people_w.push_back(humanCentreInWorld(result.T_w_c, p_c));
-        }
-        const std::vector<int> ids = humans.update(frame.timestamp, people_w);
-        for (size_t k = 0; k < ids.size(); ++k) record.people_c.emplace_back(ids[k], people_c[k]);
-      }
-      if (record.has_pose) {
-        record.T_k_c = result.T_k_c;
-        T_w_prevprev = T_w_prev;
-        T_w_prev = result.T_w_c;
-        ++poses_in_row;
-        ++summary.tracked;
-      } else {
-        poses_in_row = 0;
-        ++summary.lost;
-      }
-      if (result.status == TrackStatus::kRelocalised) ++summary.relocalised;
-      if (result.status == TrackStatus::kBridged) ++summary.bridged;
-      // A bridged pose is the motion prior's guess: good enough to place people for a moment,
-      // not to fuse depth into the map.
-      const bool measured = record.has_pose && result.status != TrackStatus::kBridged;
-      if (options_.build_map && measured) {
-        const bool in_between = options_.fuse_every > 0 && summary.frames % options_.fuse_every == 0;
-        if (result.keyframe_created || in_between) {
-          const int id = result.keyframe_created ? result.keyframe_id : kFusedFrameIds + summary.frames;
-          keyframe_jobs.push({id, result.keyframe_id, result.T_k_c, static_frame.depth, frame.rgb,
-                              frame.intrinsics, result.T_w_c});
-        }
-      }
-      records.push_back(std::move(record));
-      ++summary.frames;
+    while (std::optional<Frame> frame = loader.next()) {
+      pipeline.process(*frame, &summary);
       if (options_.progress && (summary.frames % 30 == 0 || summary.frames == (int)frame_count)) {
-        const double elapsed =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         std::fprintf(stderr, "\rframe %d/%zu  %.1f fps  lost %d  keyframes %zu   ", summary.frames,
-                     frame_count, summary.frames / elapsed, summary.lost, tracker.keyframes().size());
+                     frame_count, summary.frames / elapsed, summary.lost, pipeline.keyframeCount());
       }
     }
     summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    tracker.finish();
+    loader.stop();
+    if (options_.progress) std::fprintf(stderr, "\n");
+    pipeline.finish(&summary);
   } catch (...) {
-    stop_threads();
+    loader.stop();
+    pipeline.stopThreads();
     throw;
   }
-  stop_threads();
-  if (options_.progress) std::fprintf(stderr, "\n");
-  if (mapper_error) std::rethrow_exception(mapper_error);
-
-  summary.keyframes = static_cast<int>(tracker.keyframes().size());
   summary.fps = summary.seconds > 0 ? summary.frames / summary.seconds : 0.0;
-
-  // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
-  trajectory_.clear();
-  const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker.keyframes().poses();
-  for (const FrameRecord& record : records) {
-    if (!record.has_pose) continue;
-    trajectory_.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
-  }
-  writeTrajectory(out_dir + "/trajectory.txt", trajectory_);
-  if (track_humans) writeHumans(out_dir + "/humans.txt", records, keyframe_poses);
-  if (options_.build_map) {
-    ScopedStageTimer timer(&stats_, "map_export");
-    mapper.updateKeyframePoses(fusedPoses(keyframe_poses, fused_anchors));
-    mapper.exportMap(out_dir, options_.map_files);
-  }
-  const std::string json = summaryJson(summary, stats_, tracker.stats(), records);
-  writeFileAtomically(out_dir + "/stats.json", [&](std::ostream& out) { out << json; });
+  pipeline.write(out_dir, summary, &trajectory_);
   return summary;
 }
 
