@@ -13,9 +13,7 @@ frames="${3:-300}"
 people="${4:-3}"
 mkdir -p "$work"
 
-json_field() {  # json_field FILE KEY -> the number after "KEY":
-  grep -o "\"$2\":[-0-9.e]*" "$1" | head -n 1 | cut -d: -f2
-}
+source "$root/bench/bench_lib.sh"
 stage_median() {  # stage_median STATS_JSON STAGE
   grep -o "\"$2\":{\"count\":[0-9]*,\"median_ms\":[0-9.]*" "$1" | head -n 1 | sed 's/.*median_ms"://'
 }

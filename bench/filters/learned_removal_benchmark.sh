@@ -14,6 +14,7 @@ build="${1:-$root/build}"
 work="${2:-/tmp/pf2_no_oracle}"
 frames="${3:-300}"
 mkdir -p "$work"
+source "$root/bench/bench_lib.sh"
 
 synth() {  # synth NAME ARGS...: generates the sequence once, prints its folder
   local name="$1"
@@ -26,14 +27,8 @@ synth() {  # synth NAME ARGS...: generates the sequence once, prints its folder
 row() {  # row CASE SEQUENCE LABEL OPTIONS...
   local case="$1" sequence="$2" label="$3"
   shift 3
-  local json
-  json="$("$build/apps/pf2_detect" "$sequence" "$work/removal_${case}" --detector learned --json "$@" | tail -n 1)"
-  python3 - "$case" "$label" "$json" <<'PY'
-import json, sys
-r = json.loads(sys.argv[3])
-print(f"| {sys.argv[1]} | {sys.argv[2]} | {100 * r['recall']:.2f} | {100 * r['precision']:.2f} | "
-      f"{100 * r['retention']:.2f} | {r['filter_median_ms']:.2f} |")
-PY
+  removal_row "$case" "$label" \
+    "$("$build/apps/pf2_detect" "$sequence" "$work/removal_${case}" --detector learned --json "$@" | tail -n 1)"
 }
 
 echo "| case | filter | person depth removed (recall %) | precision % | static depth kept (retention %) | filter ms |"

@@ -5,6 +5,7 @@
 #   bench/filters/mask_benchmark.sh BUILD_DIR WORK_DIR [FRAMES]
 # Sequences are generated into WORK_DIR once (pf2_synth needs its body model, see docs/synth.md).
 set -euo pipefail
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/bench_lib.sh"
 build="$1"; work="$2"; frames="${3:-150}"
 synth="$build/apps/pf2_synth"; detect="$build/apps/pf2_detect"
 mkdir -p "$work"
@@ -18,14 +19,7 @@ done
 degrade="--shrink 0.1 --shift 5 --drop 0.1 --false-positives 0.2"
 row() {  # name sequence options...
   local name="$1" seq="$2"; shift 2
-  local json
-  json=$("$detect" "$work/$seq" "$work/out_$seq" "$@" --json | tail -1)
-  python3 - "$name" "$seq" "$json" <<'PY'
-import json, sys
-r = json.loads(sys.argv[3])
-print(f"| {sys.argv[1]} | {sys.argv[2]} | {100*r['recall']:.2f} | {100*r['precision']:.2f} | "
-      f"{100*r['retention']:.2f} | {r['filter_median_ms']:.2f} |")
-PY
+  removal_row "$name" "$seq" "$("$detect" "$work/$seq" "$work/out_$seq" "$@" --json | tail -1)"
 }
 echo "| configuration | sequence | recall % | precision % | retention % | filter ms (median) |"
 echo "| --- | --- | --- | --- | --- | --- |"

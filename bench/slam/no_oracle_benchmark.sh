@@ -16,9 +16,7 @@ frames="${3:-300}"
 data="${4:-$root/../shared/data}"
 mkdir -p "$work"
 
-json_field() {  # json_field FILE KEY -> the number after "KEY":
-  grep -o "\"$2\":[-0-9.e]*" "$1" | head -n 1 | cut -d: -f2
-}
+source "$root/bench/bench_lib.sh"
 
 config_args=()
 [ -n "${PF2_BENCH_CONFIG:-}" ] && config_args=(--config "$PF2_BENCH_CONFIG")
