@@ -186,6 +186,15 @@ class DualBBoxFilter {
   void setOptions(const Options& options) { options_ = options; }
 
  private:
+  struct BandGroup;  // temporal: moved cells of neighbouring depth bands, dilated together (.cpp)
+  // The temporal and geometric steps of filter() (the .cpp says what each does).
+  cv::Rect guardTemporally(const cv::Mat& depth, const Eigen::Isometry3d& T_cur_prev);
+  std::vector<BandGroup> temporalBandGroups(const cv::Rect& bounds, const cv::Size& half, cv::Rect* area) const;
+  void dilateBandGroups(const std::vector<BandGroup>& groups, const cv::Size& half, const cv::Rect& area);
+  cv::Rect guardPixels(const cv::Mat& depth, const cv::Rect& area);
+  cv::Mat geometricEvidence(const cv::Mat& depth);
+  void carryToNextFrame(const cv::Mat& depth, const std::vector<cv::Rect>& areas, const cv::Rect& guarded_area);
+
   Options options_;
   CameraIntrinsics intrinsics_;
   std::shared_ptr<DynamicEvidence> evidence_;
