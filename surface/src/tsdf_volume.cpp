@@ -44,6 +44,192 @@ Eigen::Vector3i blockFromKey(std::uint64_t key) {
   return Eigen::Vector3i(field(key >> 42), field(key >> 21), field(key));
 }
 
+// update()'s frame constants as floats, shared by the block allocation and the voxel update.
+struct FrameGeometry {
+  float voxel, truncation, min_depth, max_depth;
+  float fx, fy, cx, cy;
+  Eigen::Isometry3f T_w_c;
+};
+
+// Reads the options, intrinsics and pose into floats once per frame (the whole update is float).
+FrameGeometry frameGeometry(const TsdfVolume::Options& options, const CameraIntrinsics& K,
+                            const Eigen::Isometry3d& T_w_c) {
+  FrameGeometry g;
+  g.voxel = static_cast<float>(options.voxel_size);
+  g.truncation = static_cast<float>(options.truncation);
+  g.min_depth = static_cast<float>(options.min_depth);
+  g.max_depth = static_cast<float>(options.max_depth);
+  g.fx = static_cast<float>(K.fx), g.fy = static_cast<float>(K.fy);
+  g.cx = static_cast<float>(K.cx), g.cy = static_cast<float>(K.cy);
+  g.T_w_c = T_w_c.cast<float>();
+  return g;
+}
+
+// Appends the blocks segment g0 -> g1 crosses (block b spans [b, b + 1)), by Amanatides & Woo's grid walk.
+void walkBlocks(const Eigen::Vector3f& g0, const Eigen::Vector3f& g1, std::vector<std::uint64_t>& recent,
+                std::vector<std::uint64_t>& keys) {
+  const Eigen::Vector3f direction = g1 - g0;
+  Eigen::Vector3i cell(static_cast<int>(std::floor(g0.x())), static_cast<int>(std::floor(g0.y())),
+                       static_cast<int>(std::floor(g0.z())));
+  const Eigen::Vector3i last(static_cast<int>(std::floor(g1.x())), static_cast<int>(std::floor(g1.y())),
+                             static_cast<int>(std::floor(g1.z())));
+  Eigen::Vector3i step;
+  Eigen::Vector3f t_max, t_delta;
+  for (int a = 0; a < 3; ++a) {
+    step[a] = direction[a] > 0 ? 1 : -1;
+    const float magnitude = std::abs(direction[a]);
+    t_delta[a] = magnitude > 0 ? 1.f / magnitude : std::numeric_limits<float>::infinity();
+    const float boundary = static_cast<float>(cell[a] + (step[a] > 0 ? 1 : 0));
+    t_max[a] = magnitude > 0 ? (boundary - g0[a]) / direction[a] : std::numeric_limits<float>::infinity();
+  }
+  const int max_steps = (last - cell).cwiseAbs().sum();
+  for (int n = 0;; ++n) {
+    const std::uint64_t key = blockKey(cell);
+    // A small direct-mapped filter drops the repeats of neighbouring rays before sorting.
+    std::uint64_t& seen = recent[(key * 0x9E3779B97F4A7C15ull) >> 56];
+    if (seen != key) {
+      seen = key;
+      keys.push_back(key);
+    }
+    if (n >= max_steps) break;
+    int axis = 0;
+    if (t_max[1] < t_max[axis]) axis = 1;
+    if (t_max[2] < t_max[axis]) axis = 2;
+    cell[axis] += step[axis];
+    t_max[axis] += t_delta[axis];
+  }
+}
+
+// Sorted unique packed keys of the blocks on every stride-th pixel ray's truncation band (to allocate them).
+std::vector<std::uint64_t> bandBlockKeys(const cv::Mat& depth, const FrameGeometry& g, int stride, int num_threads) {
+  const float inverse_voxel = 1.f / g.voxel;
+  constexpr float kInverseSide = 1.f / kSide;
+  const float half_voxel = 0.5f * kInverseSide;
+  const int rows = (depth.rows + stride - 1) / stride;
+  std::vector<std::vector<std::uint64_t>> candidates(std::max(1, num_threads));
+  surface_detail::parallelChunks(rows, num_threads, 8, [&](int worker, std::size_t begin, std::size_t end) {
+    std::vector<std::uint64_t>& keys = candidates[worker];
+    std::vector<std::uint64_t> recent(256, ~std::uint64_t{0});
+    for (std::size_t row = begin; row < end; ++row) {
+      const int v = static_cast<int>(row) * stride;
+      const float* depth_row = depth.ptr<float>(v);
+      for (int u = 0; u < depth.cols; u += stride) {
+        const float d = depth_row[u];
+        if (!(d >= g.min_depth && d <= g.max_depth)) continue;
+        const Eigen::Vector3f ray_c((u - g.cx) / g.fx, (v - g.cy) / g.fy, 1.f);
+        // The band's segment in block units.
+        const Eigen::Vector3f g0 = (g.T_w_c * (ray_c * (d - g.truncation)) * inverse_voxel).array() * kInverseSide + half_voxel;
+        const Eigen::Vector3f g1 = (g.T_w_c * (ray_c * (d + g.truncation)) * inverse_voxel).array() * kInverseSide + half_voxel;
+        walkBlocks(g0, g1, recent, keys);
+      }
+    }
+  });
+  // A sorted vector is much cheaper than a hash set for the few hundred thousand candidates of a frame.
+  std::vector<std::uint64_t> touched;
+  for (const auto& keys : candidates) touched.insert(touched.end(), keys.begin(), keys.end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  return touched;
+}
+
+using BlockWork = std::vector<std::pair<Eigen::Vector3i, TsdfVolume::Block*>>;
+
+// The blocks of `touched`, allocated when integrating; de-integration (sign < 0) skips missing ones.
+BlockWork workBlocks(const std::vector<std::uint64_t>& touched, float sign, TsdfVolume::BlockMap& blocks) {
+  BlockWork work;
+  work.reserve(touched.size());
+  for (const std::uint64_t key : touched) {
+    const Eigen::Vector3i index = blockFromKey(key);
+    auto it = blocks.find(index);
+    if (it == blocks.end()) {
+      if (sign < 0) continue;  // de-integration never allocates: nothing of this frame is there
+      it = blocks.emplace(index, std::make_unique<TsdfVolume::Block>()).first;
+    }
+    work.emplace_back(index, it->second.get());
+  }
+  return work;
+}
+
+// Voxel centres to this frame's pixels: q = K (R_c_w p_w + t_c_w) homogeneous, stepped per voxel, and the images.
+struct VoxelProjection {
+  Eigen::Matrix3f P;
+  Eigen::Vector3f Kt, step_x, step_y, step_z;
+  float voxel, truncation, inverse_truncation, min_depth, max_depth, u_max, v_max, sign;
+  bool colour;
+  const float* depth_data;
+  std::size_t depth_step;
+  const unsigned char* bgr_data;
+  std::size_t bgr_step;
+};
+
+// Builds the projection of world voxels into this frame's depth and colour images.
+VoxelProjection voxelProjection(const cv::Mat& depth, const cv::Mat& bgr, const FrameGeometry& g, float sign) {
+  VoxelProjection p;
+  const Eigen::Matrix3f R_c_w = g.T_w_c.linear().transpose();
+  const Eigen::Vector3f t_c_w = -R_c_w * g.T_w_c.translation();
+  Eigen::Matrix3f K_f;
+  K_f << g.fx, 0.f, g.cx, 0.f, g.fy, g.cy, 0.f, 0.f, 1.f;
+  p.P = K_f * R_c_w;
+  p.Kt = K_f * t_c_w;
+  p.step_x = p.P.col(0) * g.voxel, p.step_y = p.P.col(1) * g.voxel, p.step_z = p.P.col(2) * g.voxel;
+  p.voxel = g.voxel, p.truncation = g.truncation, p.min_depth = g.min_depth, p.max_depth = g.max_depth;
+  p.u_max = depth.cols - 0.5f, p.v_max = depth.rows - 0.5f;
+  p.sign = sign;
+  p.colour = !bgr.empty();
+  p.inverse_truncation = 1.f / g.truncation;
+  p.depth_data = depth.ptr<float>(0);
+  p.depth_step = depth.step1();
+  p.bgr_data = p.colour ? bgr.ptr<unsigned char>(0) : nullptr;
+  p.bgr_step = p.colour ? bgr.step1() : 0;
+  return p;
+}
+
+// Averages this frame's observations into (sign -1: out of) one block's voxels; false when no weight is left.
+bool updateBlock(const VoxelProjection& projection, const Eigen::Vector3i& index, TsdfVolume::Block& block) {
+  using Voxel = TsdfVolume::Voxel;
+  // A local copy: the compiler keeps it in registers instead of reloading it after voxel stores.
+  const VoxelProjection c = projection;
+  const Eigen::Vector3f origin_w = (index * kSide).cast<float>() * c.voxel;
+  const Eigen::Vector3f origin_q = c.P * origin_w + c.Kt;
+  bool any_weight = false;
+  for (int z = 0; z < kSide; ++z) {
+    for (int y = 0; y < kSide; ++y) {
+      const Eigen::Vector3f row_q = origin_q + c.step_y * static_cast<float>(y) + c.step_z * static_cast<float>(z);
+      float qx = row_q.x(), qy = row_q.y(), qz = row_q.z();
+      Voxel* voxel_row = &block.voxels[kSide * (y + kSide * z)];
+      for (int x = 0; x < kSide; ++x, qx += c.step_x.x(), qy += c.step_x.y(), qz += c.step_x.z()) {
+        if (qz < c.min_depth) continue;
+        const float inverse_z = 1.f / qz;
+        const float fu = qx * inverse_z, fv = qy * inverse_z;
+        if (!(fu >= -0.5f && fu < c.u_max && fv >= -0.5f && fv < c.v_max)) continue;
+        const int u = static_cast<int>(fu + 0.5f), v = static_cast<int>(fv + 0.5f);
+        const float d = c.depth_data[v * c.depth_step + u];
+        if (!(d >= c.min_depth && d <= c.max_depth)) continue;
+        const float sdf = d - qz;
+        if (sdf < -c.truncation) continue;
+        Voxel& vox = voxel_row[x];
+        const float observation = std::min(1.f, sdf * c.inverse_truncation);
+        const float weight = vox.weight + c.sign;
+        if (weight < 0.5f) {
+          vox = Voxel();
+          continue;
+        }
+        const float inverse_weight = 1.f / weight;
+        vox.tsdf = (vox.tsdf * vox.weight + c.sign * observation) * inverse_weight;
+        if (c.colour) {
+          const unsigned char* rgb = c.bgr_data + v * c.bgr_step + 3 * u;
+          vox.r = (vox.r * vox.weight + c.sign * rgb[2]) * inverse_weight;
+          vox.g = (vox.g * vox.weight + c.sign * rgb[1]) * inverse_weight;
+          vox.b = (vox.b * vox.weight + c.sign * rgb[0]) * inverse_weight;
+        }
+        vox.weight = weight;
+      }
+    }
+  }
+  for (const Voxel& vox : block.voxels) any_weight = any_weight || vox.weight > 0.f;
+  return any_weight;
+}
+
 }  // namespace
 
 TsdfVolume::TsdfVolume(const Options& options) : options_(options) {
@@ -63,154 +249,25 @@ void TsdfVolume::deintegrate(const cv::Mat& depth, const cv::Mat& bgr, const Cam
   update(depth, bgr, K, T_w_c, -1.f);
 }
 
+// Fuses (sign +1) or removes (sign -1) a frame: band blocks allocated, their voxels averaged, emptied blocks freed.
 void TsdfVolume::update(const cv::Mat& depth, const cv::Mat& bgr, const CameraIntrinsics& K,
                         const Eigen::Isometry3d& T_w_c, float sign) {
   checkImages(depth, bgr, K);
-  const float voxel = static_cast<float>(options_.voxel_size);
-  const float truncation = static_cast<float>(options_.truncation);
-  const float min_depth = static_cast<float>(options_.min_depth);
-  const float max_depth = static_cast<float>(options_.max_depth);
-  const float fx = static_cast<float>(K.fx), fy = static_cast<float>(K.fy);
-  const float cx = static_cast<float>(K.cx), cy = static_cast<float>(K.cy);
-  const Eigen::Isometry3f T_w_c_f = T_w_c.cast<float>();
+  const FrameGeometry geometry = frameGeometry(options_, K, T_w_c);
 
-  // 1. Blocks along the truncation band of every (stride-th) pixel's ray, as packed keys: a sorted
-  // vector is much cheaper than a hash set for the few hundred thousand candidates of a frame.
-  const float inverse_voxel = 1.f / voxel;
-  constexpr float kInverseSide = 1.f / kSide;
-  const float half_voxel = 0.5f * kInverseSide;
-  const int stride = options_.allocation_stride;
-  const int rows = (depth.rows + stride - 1) / stride;
-  std::vector<std::vector<std::uint64_t>> candidates(std::max(1, options_.num_threads));
-  surface_detail::parallelChunks(rows, options_.num_threads, 8, [&](int worker, std::size_t begin, std::size_t end) {
-    std::vector<std::uint64_t>& keys = candidates[worker];
-    std::vector<std::uint64_t> recent(256, ~std::uint64_t{0});
-    for (std::size_t row = begin; row < end; ++row) {
-      const int v = static_cast<int>(row) * stride;
-      const float* depth_row = depth.ptr<float>(v);
-      for (int u = 0; u < depth.cols; u += stride) {
-        const float d = depth_row[u];
-        if (!(d >= min_depth && d <= max_depth)) continue;
-        const Eigen::Vector3f ray_c((u - cx) / fx, (v - cy) / fy, 1.f);
-        // The band's segment in block units (block b spans [b, b + 1)), walked block by block
-        // (Amanatides & Woo's grid traversal).
-        const Eigen::Vector3f g0 = (T_w_c_f * (ray_c * (d - truncation)) * inverse_voxel).array() * kInverseSide + half_voxel;
-        const Eigen::Vector3f g1 = (T_w_c_f * (ray_c * (d + truncation)) * inverse_voxel).array() * kInverseSide + half_voxel;
-        const Eigen::Vector3f direction = g1 - g0;
-        Eigen::Vector3i cell(static_cast<int>(std::floor(g0.x())), static_cast<int>(std::floor(g0.y())),
-                             static_cast<int>(std::floor(g0.z())));
-        const Eigen::Vector3i last(static_cast<int>(std::floor(g1.x())), static_cast<int>(std::floor(g1.y())),
-                                   static_cast<int>(std::floor(g1.z())));
-        Eigen::Vector3i step;
-        Eigen::Vector3f t_max, t_delta;
-        for (int a = 0; a < 3; ++a) {
-          step[a] = direction[a] > 0 ? 1 : -1;
-          const float magnitude = std::abs(direction[a]);
-          t_delta[a] = magnitude > 0 ? 1.f / magnitude : std::numeric_limits<float>::infinity();
-          const float boundary = static_cast<float>(cell[a] + (step[a] > 0 ? 1 : 0));
-          t_max[a] = magnitude > 0 ? (boundary - g0[a]) / direction[a] : std::numeric_limits<float>::infinity();
-        }
-        const int max_steps = (last - cell).cwiseAbs().sum();
-        for (int n = 0;; ++n) {
-          const std::uint64_t key = blockKey(cell);
-          // A small direct-mapped filter drops the repeats of neighbouring rays before sorting.
-          std::uint64_t& seen = recent[(key * 0x9E3779B97F4A7C15ull) >> 56];
-          if (seen != key) {
-            seen = key;
-            keys.push_back(key);
-          }
-          if (n >= max_steps) break;
-          int axis = 0;
-          if (t_max[1] < t_max[axis]) axis = 1;
-          if (t_max[2] < t_max[axis]) axis = 2;
-          cell[axis] += step[axis];
-          t_max[axis] += t_delta[axis];
-        }
-      }
-    }
-  });
-  std::vector<std::uint64_t> touched;
-  for (const auto& keys : candidates) touched.insert(touched.end(), keys.begin(), keys.end());
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  std::vector<std::pair<Eigen::Vector3i, Block*>> work;
-  work.reserve(touched.size());
-  for (const std::uint64_t key : touched) {
-    const Eigen::Vector3i index = blockFromKey(key);
-    auto it = blocks_.find(index);
-    if (it == blocks_.end()) {
-      if (sign < 0) continue;  // de-integration never allocates: nothing of this frame is there
-      it = blocks_.emplace(index, std::make_unique<Block>()).first;
-    }
-    work.emplace_back(index, it->second.get());
-  }
+  // 1. Blocks along the truncation band of every (stride-th) pixel's ray.
+  const std::vector<std::uint64_t> touched =
+      bandBlockKeys(depth, geometry, options_.allocation_stride, options_.num_threads);
+  const BlockWork work = workBlocks(touched, sign, blocks_);
 
-  // 2. Per block, project every voxel into the image and average the observation in. The voxel
-  // centre is carried in homogeneous pixel coordinates q = K (R_c_w p_w + t_c_w), stepped per voxel.
-  const Eigen::Matrix3f R_c_w = T_w_c_f.linear().transpose();
-  const Eigen::Vector3f t_c_w = -R_c_w * T_w_c_f.translation();
-  Eigen::Matrix3f K_f;
-  K_f << fx, 0.f, cx, 0.f, fy, cy, 0.f, 0.f, 1.f;
-  const Eigen::Matrix3f P = K_f * R_c_w;
-  const Eigen::Vector3f Kt = K_f * t_c_w;
-  const Eigen::Vector3f step_x = P.col(0) * voxel, step_y = P.col(1) * voxel, step_z = P.col(2) * voxel;
-  const float u_max = depth.cols - 0.5f, v_max = depth.rows - 0.5f;
-  const bool colour = !bgr.empty();
-  const float inverse_truncation = 1.f / truncation;
-  const float* depth_data = depth.ptr<float>(0);
-  const std::size_t depth_step = depth.step1();
-  const unsigned char* bgr_data = colour ? bgr.ptr<unsigned char>(0) : nullptr;
-  const std::size_t bgr_step = colour ? bgr.step1() : 0;
+  // 2. Per block, project every voxel into the image and average the observation in.
+  const VoxelProjection projection = voxelProjection(depth, bgr, geometry, sign);
   std::vector<char> emptied(work.size(), 0);
-  // The worker copies what it reads in the inner loop (captures by value), so the compiler keeps
-  // it in registers instead of reloading through the closure.
-  const auto update_blocks = [=, &work, &emptied](int, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      Block& block = *work[i].second;
-      const Eigen::Vector3f origin_w = (work[i].first * kSide).cast<float>() * voxel;
-      const Eigen::Vector3f origin_q = P * origin_w + Kt;
-      bool any_weight = false;
-      for (int z = 0; z < kSide; ++z) {
-        for (int y = 0; y < kSide; ++y) {
-          const Eigen::Vector3f row_q = origin_q + step_y * static_cast<float>(y) + step_z * static_cast<float>(z);
-          float qx = row_q.x(), qy = row_q.y(), qz = row_q.z();
-          Voxel* voxel_row = &block.voxels[kSide * (y + kSide * z)];
-          for (int x = 0; x < kSide; ++x, qx += step_x.x(), qy += step_x.y(), qz += step_x.z()) {
-            if (qz < min_depth) continue;
-            const float inverse_z = 1.f / qz;
-            const float fu = qx * inverse_z, fv = qy * inverse_z;
-            if (!(fu >= -0.5f && fu < u_max && fv >= -0.5f && fv < v_max)) continue;
-            const int u = static_cast<int>(fu + 0.5f), v = static_cast<int>(fv + 0.5f);
-            const float d = depth_data[v * depth_step + u];
-            if (!(d >= min_depth && d <= max_depth)) continue;
-            const float sdf = d - qz;
-            if (sdf < -truncation) continue;
-            Voxel& vox = voxel_row[x];
-            const float observation = std::min(1.f, sdf * inverse_truncation);
-            const float weight = vox.weight + sign;
-            if (weight < 0.5f) {
-              vox = Voxel();
-              continue;
-            }
-            const float inverse_weight = 1.f / weight;
-            vox.tsdf = (vox.tsdf * vox.weight + sign * observation) * inverse_weight;
-            if (colour) {
-              const unsigned char* c = bgr_data + v * bgr_step + 3 * u;
-              vox.r = (vox.r * vox.weight + sign * c[2]) * inverse_weight;
-              vox.g = (vox.g * vox.weight + sign * c[1]) * inverse_weight;
-              vox.b = (vox.b * vox.weight + sign * c[0]) * inverse_weight;
-            }
-            vox.weight = weight;
-          }
-        }
-      }
-      // Every kept block holds weight: blocks this frame allocated but never reached, and blocks
-      // de-integration emptied, go (so integrate + deintegrate leaves the block set as it was).
-      for (const Voxel& vox : block.voxels) any_weight = any_weight || vox.weight > 0.f;
-      emptied[i] = !any_weight;
-    }
-  };
-  surface_detail::parallelChunks(work.size(), options_.num_threads, 16, update_blocks);
+  surface_detail::parallelChunks(work.size(), options_.num_threads, 16, [&](int, std::size_t begin, std::size_t end) {
+    // Every kept block holds weight: blocks this frame allocated but never reached, and blocks
+    // de-integration emptied, go (so integrate + deintegrate leaves the block set as it was).
+    for (std::size_t i = begin; i < end; ++i) emptied[i] = !updateBlock(projection, work[i].first, *work[i].second);
+  });
   for (std::size_t i = 0; i < work.size(); ++i) {
     if (emptied[i]) blocks_.erase(work[i].first);
   }
