@@ -11,7 +11,9 @@
 #include <regex>
 #include <sstream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -137,17 +139,27 @@ cv::Mat toTumDepth(const cv::Mat& depth_m) {
   return out;
 }
 
-int run(int argc, char** argv) {
-  pf2::CommandLine cli(argc, argv);
-  if (cli.helpRequested()) {
-    std::cout << kUsage;
-    return 0;
-  }
-  // Options first, then the two folders.
-  std::string detector_name = cli.value("--detector", "");
-  pf2::DetectorOptions detector_options;
-  const std::string gt_dir_option = cli.value("--gt-dir", "");
-  const auto misalign_option = cli.value("--gt-misalign");
+// Everything the command line says, gathered so setup, the frame loop and the report share it.
+struct DetectOptions {
+  std::string detector_name;  // empty: chosen in DetectSetup (gt when gt/boxes.txt exists, else hog)
+  pf2::DetectorOptions detector;
+  std::string gt_dir_option;
+  std::optional<std::string> misalign_option;
+  pf2::BoxDegradation degradation;
+  pf2::DualBBoxFilter::Options filter;
+  bool no_filter = false;
+  int max_frames = 0;
+  bool as_json = false;
+  std::string sequence_dir;
+  std::string out_dir;
+};
+
+// Reads --detector .. --backend-options into `options`, in the order run() always read them.
+void parseDetectorOptions(pf2::CommandLine& cli, DetectOptions* options) {
+  options->detector_name = cli.value("--detector", "");
+  pf2::DetectorOptions& detector_options = options->detector;
+  options->gt_dir_option = cli.value("--gt-dir", "");
+  options->misalign_option = cli.value("--gt-misalign");
   detector_options.gt.provide_mask = cli.flag("--gt-mask");
   detector_options.file.path = cli.value("--boxes", "");
   detector_options.yolo.model = cli.value("--yolo-model", "");
@@ -167,6 +179,10 @@ int run(int argc, char** argv) {
       detector_options.extra[item.substr(0, equals)] = item.substr(equals + 1);
     }
   }
+}
+
+// Reads the box degradation options and rejects values outside their ranges before any work.
+pf2::BoxDegradation parseDegradation(pf2::CommandLine& cli) {
   pf2::BoxDegradation degradation;
   degradation.shrink = cli.number("--shrink", 0.0);
   degradation.shift = cli.number("--shift", 0.0);
@@ -177,6 +193,11 @@ int run(int argc, char** argv) {
       !(degradation.shift >= 0) || !(degradation.false_positive_rate >= 0)) {
     throw pf2::Error("--shrink must be in [0, 1), --drop in [0, 1], --shift and --false-positives >= 0");
   }
+  return degradation;
+}
+
+// Reads the Dual-BBox filter options; the ones not given keep the paper's defaults.
+pf2::DualBBoxFilter::Options parseFilterOptions(pf2::CommandLine& cli) {
   pf2::DualBBoxFilter::Options filter_options;
   filter_options.box_scale = cli.number("--lambda", filter_options.box_scale);
   filter_options.background_margin = cli.number("--background-margin", filter_options.background_margin);
@@ -197,119 +218,193 @@ int run(int argc, char** argv) {
   filter_options.temporal_margin = cli.number("--temporal-margin", filter_options.temporal_margin);
   filter_options.temporal_person_motion = cli.number("--temporal-motion", filter_options.temporal_person_motion);
   filter_options.geometric = cli.flag("--geometric");
-  const bool no_filter = cli.flag("--no-filter");
-  const int max_frames = cli.integer("--max-frames", 0);
-  const bool as_json = cli.flag("--json");
+  return filter_options;
+}
+
+// Reads all options first, then the two folders (positionals() rejects any option left unread).
+DetectOptions parseOptions(pf2::CommandLine& cli) {
+  DetectOptions options;
+  parseDetectorOptions(cli, &options);
+  options.degradation = parseDegradation(cli);
+  options.filter = parseFilterOptions(cli);
+  options.no_filter = cli.flag("--no-filter");
+  options.max_frames = cli.integer("--max-frames", 0);
+  options.as_json = cli.flag("--json");
   const auto folders = cli.positionals();
   if (folders.size() != 2) {
     throw pf2::Error("expected SEQUENCE_DIR and OUT_DIR, got " + std::to_string(folders.size()) +
                      " folder argument(s) (see -h)");
   }
-  const std::string& sequence_dir = folders[0];
-  const std::string& out_dir = folders[1];
+  options.sequence_dir = folders[0];
+  options.out_dir = folders[1];
+  return options;
+}
 
-  const pf2::TumSequence sequence(sequence_dir);
-  const std::string gt_dir = gt_dir_option.empty() ? sequence_dir + "/gt" : gt_dir_option;
-  if (detector_name.empty()) detector_name = exists(gt_dir + "/boxes.txt") ? "gt" : "hog";
-  detector_options.gt.gt_folder = gt_dir;
-  std::unique_ptr<pf2::HumanDetector> detector = pf2::createHumanDetector(detector_name, detector_options);
+// Picks the default detector (gt when gt_dir has boxes, else hog) into options and creates it.
+std::unique_ptr<pf2::HumanDetector> createDetector(DetectOptions* options, const std::string& gt_dir) {
+  if (options->detector_name.empty()) options->detector_name = exists(gt_dir + "/boxes.txt") ? "gt" : "hog";
+  options->detector.gt.gt_folder = gt_dir;
+  return pf2::createHumanDetector(options->detector_name, options->detector);
+}
 
-  pf2::DualBBoxFilter filter(filter_options);
+// The sequence, detector, filter and ground truth one run works with, opened in this order.
+struct DetectSetup {
+  explicit DetectSetup(DetectOptions* options);
+
+  const pf2::TumSequence sequence;
+  const std::string gt_dir;
+  std::unique_ptr<pf2::HumanDetector> detector;
+  pf2::DualBBoxFilter filter;
+  std::shared_ptr<pf2::PredictedDepthEvidence> evidence;  // --geometric: the static model's depth
+  pf2::Trajectory poses;                                  // groundtruth.txt, empty without it
+  bool have_masks = false;                                // gt/masks exists: score the removal
+  int misalign = 0;                                       // depth lies this many pixels right of gt
+};
+
+// Opens the sequence, creates the detector and filter, and reads the ground truth that exists.
+DetectSetup::DetectSetup(DetectOptions* options)
+    : sequence(options->sequence_dir),
+      gt_dir(options->gt_dir_option.empty() ? options->sequence_dir + "/gt" : options->gt_dir_option),
+      detector(createDetector(options, gt_dir)),
+      filter(options->filter) {
   filter.setIntrinsics(sequence.intrinsics());
-  auto evidence = std::make_shared<pf2::PredictedDepthEvidence>();
+  evidence = std::make_shared<pf2::PredictedDepthEvidence>();
   filter.setDynamicEvidence(evidence);
-  const pf2::Trajectory poses = sequence.hasGroundTruth() ? sequence.groundTruth() : pf2::Trajectory();
-  const bool have_masks = exists(gt_dir + "/masks");
-  int misalign = misalignmentFromReadme(gt_dir);
-  if (misalign_option) misalign = std::stoi(*misalign_option);
+  poses = sequence.hasGroundTruth() ? sequence.groundTruth() : pf2::Trajectory();
+  have_masks = exists(gt_dir + "/masks");
+  misalign = misalignmentFromReadme(gt_dir);
+  if (options->misalign_option) misalign = std::stoi(*options->misalign_option);
+}
 
-  makeDirectory(out_dir);
-  makeDirectory(out_dir + "/static_depth");
-  makeDirectory(out_dir + "/masks");
-
+// What the frame loop gathers for the report and boxes.txt.
+struct DetectTotals {
+  size_t frames = 0;
   pf2::StageStats stats;
   pf2::MaskCounts counts;
   std::vector<pf2::Detections> all_detections;
+};
+
+// Removes the people from one frame's depth: the boxes cut out (--no-filter) or the Dual-BBox filter.
+void removePeople(const DetectOptions& options, DetectSetup& setup, const pf2::Frame& frame,
+                  const pf2::Detections& detections, const Eigen::Isometry3d& T_cur_prev, pf2::StageStats* stats,
+                  cv::Mat* static_depth, cv::Mat* removed) {
+  if (options.no_filter) {
+    *static_depth = frame.depth.clone();
+    for (const auto& p : detections.people) {
+      if (p.score > options.filter.min_confidence) {
+        (*static_depth)(pf2::scaledBoxRect(p.box, 1.0, static_depth->size())).setTo(0.f);
+      }
+    }
+    *removed = (frame.depth > 0) & (*static_depth == 0);
+  } else {
+    pf2::ScopedStageTimer timer(stats, "filter");
+    pf2::DualBBoxFilter::Result result = setup.filter.filter(frame.depth, detections, T_cur_prev);
+    *static_depth = result.static_depth;
+    *removed = result.removed;
+  }
+}
+
+// Writes frame i's static depth and removed mask; with gt masks adds their agreement to counts.
+void writeAndScoreFrame(const DetectOptions& options, const DetectSetup& setup, size_t i, const pf2::Frame& frame,
+                        const cv::Mat& static_depth, const cv::Mat& removed, pf2::MaskCounts* counts) {
+  const std::string name = baseName(setup.sequence.files(i).depth.file);
+  writePng(options.out_dir + "/static_depth/" + name, toTumDepth(static_depth));
+  writePng(options.out_dir + "/masks/" + name, removed);
+  if (setup.have_masks) {
+    const std::string mask_path = setup.gt_dir + "/masks/" + name;
+    const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
+    if (gt.empty()) throw pf2::fileError(mask_path, "cannot read ground-truth mask");
+    if (gt.size() != frame.depth.size() || gt.channels() != 1) {
+      throw pf2::fileError(mask_path, "ground-truth mask is not single-channel of the depth's size");
+    }
+    *counts += pf2::countMaskAgreement(frame.depth, static_depth, shiftedRight(gt, setup.misalign));
+  }
+}
+
+// Detects, filters, writes and scores each frame in order, carrying camera motion and the --geometric model along.
+void processFrames(const DetectOptions& options, DetectSetup& setup, DetectTotals* totals) {
   Eigen::Isometry3d T_w_prev = Eigen::Isometry3d::Identity();
   bool have_previous_pose = false;
   cv::Mat static_model;  // --geometric: farthest static depth seen, in the previous frame's view
-  const size_t frames = max_frames > 0 ? std::min<size_t>(sequence.size(), max_frames) : sequence.size();
+  const size_t frames = options.max_frames > 0 ? std::min<size_t>(setup.sequence.size(), options.max_frames)
+                                               : setup.sequence.size();
+  totals->frames = frames;
   for (size_t i = 0; i < frames; ++i) {
-    const pf2::Frame frame = sequence.frame(i);
+    const pf2::Frame frame = setup.sequence.frame(i);
     pf2::Detections detections;
     {
-      pf2::ScopedStageTimer timer(&stats, "detector");
-      detections = detector->detect(frame);
+      pf2::ScopedStageTimer timer(&totals->stats, "detector");
+      detections = setup.detector->detect(frame);
     }
-    pf2::degradeDetections(degradation, frame.depth.size(), &detections);
-    all_detections.push_back(detections);
+    pf2::degradeDetections(options.degradation, frame.depth.size(), &detections);
+    totals->all_detections.push_back(detections);
 
     // Camera motion since the last frame, from groundtruth.txt (in the SLAM pipeline: odometry).
     Eigen::Isometry3d T_cur_prev = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_w_cur;
-    const bool have_pose = !poses.empty() && pf2::interpolateAt(poses, frame.timestamp, 0.1, &T_w_cur);
+    const bool have_pose = !setup.poses.empty() && pf2::interpolateAt(setup.poses, frame.timestamp, 0.1, &T_w_cur);
     if (have_pose && have_previous_pose) T_cur_prev = T_w_cur.inverse() * T_w_prev;
     cv::Mat predicted;
-    if (filter_options.geometric && !static_model.empty()) {
+    if (options.filter.geometric && !static_model.empty()) {
       predicted = pf2::warpDepth(static_model, frame.intrinsics, T_cur_prev);
-      evidence->setPrediction(predicted);
+      setup.evidence->setPrediction(predicted);
     }
     cv::Mat static_depth, removed;
-    if (no_filter) {
-      static_depth = frame.depth.clone();
-      for (const auto& p : detections.people) {
-        if (p.score > filter_options.min_confidence) {
-          static_depth(pf2::scaledBoxRect(p.box, 1.0, static_depth.size())).setTo(0.f);
-        }
-      }
-      removed = (frame.depth > 0) & (static_depth == 0);
-    } else {
-      pf2::ScopedStageTimer timer(&stats, "filter");
-      pf2::DualBBoxFilter::Result result = filter.filter(frame.depth, detections, T_cur_prev);
-      static_depth = result.static_depth;
-      removed = result.removed;
-    }
-    if (filter_options.geometric) {
+    removePeople(options, setup, frame, detections, T_cur_prev, &totals->stats, &static_depth, &removed);
+    if (options.filter.geometric) {
       // People only ever stand in front of the static scene, so the farthest depth seen is static.
       static_model = predicted.empty() ? static_depth.clone() : cv::max(predicted, static_depth);
     }
     T_w_prev = T_w_cur;
     have_previous_pose = have_pose;
-
-    const std::string name = baseName(sequence.files(i).depth.file);
-    writePng(out_dir + "/static_depth/" + name, toTumDepth(static_depth));
-    writePng(out_dir + "/masks/" + name, removed);
-    if (have_masks) {
-      const std::string mask_path = gt_dir + "/masks/" + name;
-      const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
-      if (gt.empty()) throw pf2::fileError(mask_path, "cannot read ground-truth mask");
-      if (gt.size() != frame.depth.size() || gt.channels() != 1) {
-        throw pf2::fileError(mask_path, "ground-truth mask is not single-channel of the depth's size");
-      }
-      counts += pf2::countMaskAgreement(frame.depth, static_depth, shiftedRight(gt, misalign));
-    }
+    writeAndScoreFrame(options, setup, i, frame, static_depth, removed, &totals->counts);
   }
-  pf2::writeBoxesFile(out_dir + "/boxes.txt", all_detections);
+}
 
-  const pf2::StageSummary det = stats.summary("detector"), fil = stats.summary("filter");
+// Prints frames, detector, timings and (with gt masks) the removal scores; --json adds one line.
+void printReport(const DetectOptions& options, const DetectSetup& setup, const DetectTotals& totals) {
+  const size_t frames = totals.frames;
+  const pf2::MaskCounts& counts = totals.counts;
+  const std::string& detector_name = options.detector_name;
+  const pf2::StageSummary det = totals.stats.summary("detector"), fil = totals.stats.summary("filter");
   std::printf("frames           %zu\n", frames);
   std::printf("detector         %s\n", detector_name.c_str());
   std::printf("detector.ms      median %.3f  p90 %.3f  mean %.3f\n", det.median_ms, det.p90_ms, det.mean_ms);
-  if (!no_filter) std::printf("filter.ms        median %.3f  p90 %.3f  mean %.3f\n", fil.median_ms, fil.p90_ms, fil.mean_ms);
-  if (have_masks) {
+  if (!options.no_filter) std::printf("filter.ms        median %.3f  p90 %.3f  mean %.3f\n", fil.median_ms, fil.p90_ms, fil.mean_ms);
+  if (setup.have_masks) {
     std::printf("recall           %.5f  (person pixels removed / person pixels with depth)\n", counts.recall());
     std::printf("precision        %.5f  (static pixels kept / pixels kept)\n", counts.precision());
     std::printf("retention        %.5f  (static pixels kept / static pixels with depth)\n", counts.retention());
   }
-  if (as_json) {
+  if (options.as_json) {
     std::printf("{\"frames\":%zu,\"detector\":\"%s\",\"detector_median_ms\":%.4f,\"filter_median_ms\":%.4f",
                 frames, detector_name.c_str(), det.median_ms, fil.median_ms);
-    if (have_masks) {
+    if (setup.have_masks) {
       std::printf(",\"recall\":%.6f,\"precision\":%.6f,\"retention\":%.6f", counts.recall(), counts.precision(),
                   counts.retention());
     }
     std::printf("}\n");
   }
+}
+
+// Parses, sets up, runs the frames, writes boxes.txt and prints the report (see kUsage).
+int run(int argc, char** argv) {
+  pf2::CommandLine cli(argc, argv);
+  if (cli.helpRequested()) {
+    std::cout << kUsage;
+    return 0;
+  }
+  DetectOptions options = parseOptions(cli);
+  DetectSetup setup(&options);
+
+  makeDirectory(options.out_dir);
+  makeDirectory(options.out_dir + "/static_depth");
+  makeDirectory(options.out_dir + "/masks");
+
+  DetectTotals totals;
+  processFrames(options, setup, &totals);
+  pf2::writeBoxesFile(options.out_dir + "/boxes.txt", totals.all_detections);
+  printReport(options, setup, totals);
   return 0;
 }
 
