@@ -11,12 +11,12 @@ namespace pf2 {
 namespace {
 
 // Each pixel's smallest depth over its 3x3 neighbourhood, holes (0) ignored; a hole with no
-// depth around stays 0.
-void nearestDepth(const cv::Mat& depth, cv::Mat* nearest) {
+// depth around stays 0. `filled` is a working image (reused between calls).
+void nearestDepth(const cv::Mat& depth, cv::Mat* filled, cv::Mat* nearest) {
   const float none = std::numeric_limits<float>::max();
-  cv::Mat filled = depth.clone();
-  filled.setTo(none, depth <= 0.0f);
-  cv::erode(filled, *nearest, cv::Mat());
+  depth.copyTo(*filled);
+  filled->setTo(none, depth <= 0.0f);
+  cv::erode(*filled, *nearest, cv::Mat());
   nearest->setTo(0.0f, *nearest == none);
 }
 
@@ -50,7 +50,7 @@ int ReferenceCleaner::update(OdometryFrame* reference, const OdometryFrame& curr
   const int stride = options_.stride;
   const cv::Size grid((ref.depth.cols + stride - 1) / stride, (ref.depth.rows + stride - 1) / stride);
   if (votes_.size() != grid) votes_ = cv::Mat::zeros(grid, CV_8U);
-  nearestDepth(cur.depth, &nearest_cur_);
+  nearestDepth(cur.depth, &filled_cur_, &nearest_cur_);
 
   const Eigen::Isometry3f T_cur_ref = T_ref_cur.inverse().cast<float>();
   const CameraIntrinsics& kr = ref.intrinsics;

@@ -42,6 +42,7 @@ class ReferenceCleaner {
  private:
   Options options_;
   cv::Mat votes_;        // CV_8U, per tested reference pixel (reference size / stride)
+  cv::Mat filled_cur_;   // CV_32F, current depth with holes set to the largest float, reused
   cv::Mat nearest_cur_;  // CV_32F, current depth's 3x3 minimum (holes excluded), reused
 };
 
