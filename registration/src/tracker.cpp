@@ -80,9 +80,10 @@ TrackResult Tracker::track(const Frame& frame, const cv::Mat& person_mask) {
   const bool measurable = depth_fraction >= options_.min_tracking_depth_fraction;
   const Eigen::Isometry3d T_k_prior = options_.constant_velocity ? T_k_c_ * T_prev_cur_ : T_k_c_;
   bool measured = false;
+  bool chained = false;  // measured against the previous frame: the keyframe no longer overlaps
   if (measurable && !lost_) {
-    measured = alignToKeyframe(&current, T_k_prior, frame.timestamp, &result) ||
-               alignToPreviousFrame(&current, T_k_prior, frame.timestamp, &result);
+    measured = alignToKeyframe(&current, T_k_prior, frame.timestamp, &result);
+    if (!measured) measured = chained = alignToPreviousFrame(&current, T_k_prior, frame.timestamp, &result);
     if (measured) result.status = TrackStatus::kOk;
   }
   if (measurable && !measured) {
@@ -112,7 +113,7 @@ TrackResult Tracker::track(const Frame& frame, const cv::Mat& person_mask) {
   // keyframe is kept until the view clears).
   if (measured && depth_fraction >= options_.min_keyframe_depth_fraction &&
       result.odometry.dense.hessian_condition <= options_.max_keyframe_condition &&
-      selector_.needsKeyframe(T_k_c_, result.odometry.dense.inlier_ratio, frames_since_keyframe_)) {
+      (chained || selector_.needsKeyframe(T_k_c_, result.odometry.dense.inlier_ratio, frames_since_keyframe_))) {
     SubStageTimer timer(&stats_, &result, "keyframe");
     createKeyframe(&current, &result);
     result.T_k_c = Eigen::Isometry3d::Identity();
@@ -150,8 +151,6 @@ bool Tracker::alignToPreviousFrame(OdometryFrame* current, const Eigen::Isometry
   const Eigen::Isometry3d T_k_c = T_k_previous_ * attempt.T_ref_cur;
   if (!attempt.valid || !withinReach(T_k_c, T_k_prior, timestamp)) return false;
   result->odometry = attempt;
-  // The selector sees no overlap with the keyframe: a new one is made from this frame.
-  result->odometry.dense.inlier_ratio = 0.0;
   T_prev_cur_ = T_k_c_.inverse() * T_k_c;
   T_k_c_ = T_k_c;
   return true;
