@@ -29,6 +29,12 @@ class SubStageTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
+PoseGraphBackend::Options backendOptions(const Tracker::Options& options) {
+  PoseGraphBackend::Options backend = options.backend;
+  backend.verification = options.odometry;
+  return backend;
+}
+
 }  // namespace
 
 const char* toString(TrackStatus status) {
@@ -47,7 +53,7 @@ Tracker::Tracker(const Options& options)
       selector_(options.keyframes),
       loops_(options.loops),
       cleaner_(options.cleaning),
-      backend_(std::make_unique<PoseGraphBackend>(options.backend, &map_, &loops_)) {
+      backend_(std::make_unique<PoseGraphBackend>(backendOptions(options), &map_, &loops_)) {
   if (options_.asynchronous_backend) backend_->start();
 }
 

@@ -133,6 +133,63 @@ TEST(PoseGraphBackend, LoopVerificationCountsOverlapOnBothSides) {
   EXPECT_LT((whole[0].T_from_to.translation() - expected.translation()).norm(), 0.003);
 }
 
+// Eight keyframes along an arc, 5 degrees and 2 cm apart: too few for a loop (min_loop_gap),
+// and the chain's odometry edges carry a bias (0.6 degrees of yaw and 4 mm per keyframe). Only
+// the local window's edges (each new keyframe aligned onto its near predecessors) pull the
+// keyframes back; without them nothing is optimised.
+TEST(PoseGraphBackend, LocalWindowEdgesCorrectChainDriftWithoutALoop) {
+  const CameraIntrinsics k = CameraIntrinsics::tumFreiburg1().scaled(0.5);
+  const int n = 8;
+  std::vector<Eigen::Isometry3d> truth;
+  for (int i = 0; i < n; ++i) truth.push_back(test::cameraPose(0.02 * i, -0.2, 0.75, 0.05, i * 0.087, 0.0));
+  Eigen::Isometry3d bias = Eigen::Isometry3d::Identity();
+  bias.linear() = Eigen::AngleAxisd(0.0105, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  bias.translation() = Eigen::Vector3d(0.004, 0.0, 0.0);
+  RgbdOdometry odometry;
+  std::vector<OdometryFrame> frames;
+  for (int i = 0; i < n; ++i) {
+    frames.push_back(odometry.prepare(test::renderRoom(truth[i], k, i)));
+    odometry.makeReference(&frames.back());
+  }
+  // Keyframe pose errors (RMS, translation in metres and rotation in radians) after the run.
+  auto run = [&](const PoseGraphBackend::Options& options, int* local_edges) {
+    KeyframeMap map;
+    LoopDetector loops;
+    PoseGraphBackend backend(options, &map, &loops);
+    Eigen::Isometry3d drifted = truth[0];
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Isometry3d measured = i == 0 ? Eigen::Isometry3d::Identity() : truth[i - 1].inverse() * truth[i] * bias;
+      drifted = drifted * measured;
+      const int id = map.add(makeKeyframe(frames[i]), drifted);
+      loops.add(id, frames[i].descriptors);
+      backend.addKeyframe(id, id - 1, measured);
+      backend.processPending();
+    }
+    EXPECT_TRUE(backend.loopClosures().empty());
+    *local_edges = backend.localEdges();
+    double t = 0.0, r = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Isometry3d error = truth[0] * map.pose(0).inverse() * map.pose(i) * truth[i].inverse();
+      t += error.translation().squaredNorm();
+      r += std::pow(rotationAngle(error.rotation()), 2);
+    }
+    return std::make_pair(std::sqrt(t / n), std::sqrt(r / n));
+  };
+  PoseGraphBackend::Options chain_only;
+  chain_only.local_edges = 0;
+  int edges = 0;
+  const auto before = run(chain_only, &edges);
+  EXPECT_EQ(edges, 0);
+  const auto after = run(PoseGraphBackend::Options(), &edges);
+  EXPECT_GE(edges, n);  // about local_edges per keyframe once the window has filled
+  EXPECT_GT(before.second, 0.015);
+  EXPECT_LT(after.second, 0.25 * before.second);
+  EXPECT_LT(after.first, 0.25 * before.first);
+  std::printf("chain drift: %.1f mm / %.2f deg RMS; with %d local edges %.1f mm / %.2f deg\n",
+              1000 * before.first, before.second * 180 / M_PI, edges, 1000 * after.first,
+              after.second * 180 / M_PI);
+}
+
 TEST(KeyframeMap, AddRelativeFollowsACorrectionOfItsReference) {
   KeyframeMap map;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

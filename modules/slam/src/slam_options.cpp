@@ -71,6 +71,13 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   t.odometry.intensity_sigma = config.number("tracker.intensity_sigma", t.odometry.intensity_sigma);
   t.odometry.min_intensity_sigma = config.number("tracker.min_intensity_sigma", t.odometry.min_intensity_sigma);
   t.max_bridged_frames = config.integer("tracker.max_bridged_frames", t.max_bridged_frames);
+  t.backend.local_edges = config.integer("tracker.local_edges", t.backend.local_edges);
+  t.backend.local_radius = config.number("tracker.local_radius", t.backend.local_radius);
+  t.odometry.max_points_per_level = config.integer("tracker.max_points_per_level", t.odometry.max_points_per_level);
+  t.odometry.iterations_coarse = config.integer("tracker.iterations_coarse", t.odometry.iterations_coarse);
+  t.odometry.iterations_fine = config.integer("tracker.iterations_fine", t.odometry.iterations_fine);
+  t.odometry.huber_k = config.number("tracker.huber_k", t.odometry.huber_k);
+  t.odometry.person_mask_dilation = config.integer("tracker.person_mask_dilation", t.odometry.person_mask_dilation);
   t.odometry.features_every_frame =
       config.boolean("tracker.features_every_frame", t.odometry.features_every_frame);
   t.keyframes.max_translation = config.number("tracker.keyframe_translation", t.keyframes.max_translation);
@@ -138,6 +145,13 @@ void validateOptions(const SlamOptions& o) {
   checkRange("tracker.min_intensity_sigma", d.min_intensity_sigma, 0, d.intensity_sigma,
              "intensity (0 = not measured; at most tracker.intensity_sigma)");
   checkRange("tracker.max_bridged_frames", o.tracker.max_bridged_frames, 0, 300, "frames");
+  checkRange("tracker.max_points_per_level", d.max_points_per_level, 100, 1000000, "samples");
+  checkRange("tracker.iterations_coarse", d.iterations_coarse, 1, 100, "iterations");
+  checkRange("tracker.iterations_fine", d.iterations_fine, 1, 100, "iterations");
+  checkRange("tracker.huber_k", d.huber_k, 0.1, 100.0, "normalised residual");
+  checkRange("tracker.person_mask_dilation", d.person_mask_dilation, 0, 100, "pixels");
+  checkRange("tracker.local_edges", o.tracker.backend.local_edges, 0, 9, "keyframes");
+  checkRange("tracker.local_radius", o.tracker.backend.local_radius, 0.0, 10.0, "metres");
 }
 
 }  // namespace pf2

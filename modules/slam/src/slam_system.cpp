@@ -200,7 +200,8 @@ std::string summaryJson(const SlamRunSummary& s, const StageStats& stages,
   out.precision(6);
   out << "{\"frames\":" << s.frames << ",\"tracked\":" << s.tracked << ",\"lost\":" << s.lost
       << ",\"relocalised\":" << s.relocalised << ",\"bridged\":" << s.bridged
-      << ",\"keyframes\":" << s.keyframes
+      << ",\"keyframes\":" << s.keyframes << ",\"loop_closures\":" << s.loop_closures
+      << ",\"local_edges\":" << s.local_edges
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
       << "\",\"stages\":" << stages.toJson() << ",\"tracker_stages\":" << tracker_stages.toJson()
       << ",\"frame_status\":" << frameStatusJson(records) << "}\n";
@@ -345,6 +346,8 @@ class PipelineRun {
     tracker_.finish();
     if (mapping_) mapping_->finish();
     summary->keyframes = static_cast<int>(tracker_.keyframes().size());
+    summary->loop_closures = static_cast<int>(tracker_.backend().loopClosures().size());
+    summary->local_edges = tracker_.backend().localEdges();
   }
   void stopThreads() {
     if (mapping_) mapping_->stop();

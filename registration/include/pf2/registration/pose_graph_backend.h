@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -46,6 +47,14 @@ class PoseGraphBackend {
     double max_loop_asymmetry_rotation = 0.01;     // radians
     int min_loop_gap = 10;       // a loop joins keyframes at least this many ids apart
     int max_candidates = 3;      // candidates verified per new keyframe, best-voted first
+    // Local window: each new keyframe is also aligned (dense, from the graph's relative pose) onto
+    // up to this many of the keyframes closer than min_loop_gap ids, other than its reference,
+    // whose positions lie within local_radius. Verified like a loop, these edges tie together the
+    // keyframes of one place, so the chain's drift is corrected as it arises (the neighbouring
+    // keyframe constraints of DVO-SLAM) instead of only when a loop closes. 0 = chain and loops.
+    int local_edges = 3;
+    double local_radius = 0.5;  // metres between the keyframes' positions
+    double min_local_agreement = 0.7;  // a local alignment's inliers per associated point
   };
 
   struct LoopClosure {
@@ -79,6 +88,7 @@ class PoseGraphBackend {
 
   std::vector<LoopClosure> loopClosures() const;
   int optimisations() const;
+  int localEdges() const;  // verified local-window edges added so far
 
  private:
   struct Pending {
@@ -87,6 +97,19 @@ class PoseGraphBackend {
     Eigen::Isometry3d T_ref_k;
   };
   void process(const Pending& pending);
+  void addNode(const Pending& pending);
+  // Keyframes of the local window of `id`, nearest first (Options::local_edges).
+  std::vector<int> localNeighbours(int id, int reference_id) const;
+  // Whether an alignment may become an edge. A loop needs overlap (inlier_ratio, inliers per
+  // sample of the newer view, at least min_inlier_ratio); keyframes of a local window, whose
+  // people hid different parts of the scene, may overlap little and need consistency instead
+  // (Options::min_local_agreement) and the odometry's min_inliers.
+  bool acceptable(const DenseAlignment& a, double min_inlier_ratio, bool local) const;
+  // T_old_new of an older keyframe and the new one when the dense alignment `forward` is
+  // acceptable and holds in the other direction too; nullopt otherwise.
+  std::optional<Eigen::Isometry3d> verified(const OdometryFrame& old, const OdometryFrame& current,
+                                            const DenseAlignment& forward, bool local) const;
+  void optimiseAndPublish();
   void workerLoop();
 
   Options options_;
@@ -106,6 +129,7 @@ class PoseGraphBackend {
   std::thread worker_;
   std::vector<LoopClosure> closures_;
   int optimisations_ = 0;
+  int local_edges_ = 0;
 };
 
 }  // namespace pf2

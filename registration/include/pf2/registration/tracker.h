@@ -75,6 +75,8 @@ class Tracker {
     RgbdOdometry::Options odometry;
     KeyframeSelector::Options keyframes;
     LoopDetector::Options loops;
+    // The back end's `verification` odometry is replaced by `odometry`: loops and local edges are
+    // measured with the tracking camera's settings (lens distortion, depth range).
     PoseGraphBackend::Options backend;
     // Points of the current keyframe that later frames see through are taken out of it.
     ReferenceCleaner::Options cleaning;

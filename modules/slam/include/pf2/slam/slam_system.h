@@ -24,6 +24,8 @@ struct SlamRunSummary {
   int relocalised = 0;   // frames where tracking came back
   int bridged = 0;       // frames given the motion prior's pose (no alignment held)
   int keyframes = 0;
+  int loop_closures = 0; // verified loop edges in the keyframe pose graph
+  int local_edges = 0;   // verified edges between near keyframes (the back end's local window)
   double seconds = 0;    // wall time of the run, from the first frame read to the last tracked
   double fps = 0;        // frames / seconds (end to end, decoding included)
   std::string detector;  // backend that ran ("none" when people were not removed)
