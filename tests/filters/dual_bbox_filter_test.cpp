@@ -361,6 +361,55 @@ TEST(DualBBoxFilter, GeometricAdditionUsesTheEvidence) {
   EXPECT_EQ(r.static_depth.at<float>(8, 20), 3.12f);
 }
 
+// A person the detector missed, seen as a candidate region (cols 10..19, rows 5..24 at 2 m before
+// a 3 m wall). The prediction already holds the lower half of them (they reached a keyframe), so
+// the evidence alone finds only the upper half; with the candidate the whole person goes, and
+// stays gone for candidate_memory frames once the evidence is lost entirely.
+TEST(DualBBoxFilter, GeometricEvidenceConfirmsACandidateAndCarriesIt) {
+  cv::Mat depth(30, 40, CV_32F, cv::Scalar(3.0f));
+  const cv::Rect body(10, 5, 10, 20);
+  depth(body).setTo(2.0f);
+  cv::Mat prediction(30, 40, CV_32F, cv::Scalar(3.0f));
+  prediction(cv::Rect(10, 15, 10, 10)).setTo(2.0f);
+  PersonDetection candidate;
+  candidate.mask = cv::Mat::zeros(30, 40, CV_8U);
+  candidate.mask(body).setTo(255);
+  Detections seen;
+  seen.candidates = {candidate};
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  DualBBoxFilter::Options o = testOptions();
+  o.geometric = true;
+  o.mask_dilation = 0;
+  o.candidate_memory = 2;
+  auto removedOnBody = [&](DualBBoxFilter& filter) {
+    return cv::countNonZero(filter.filter(depth, seen).removed(body));
+  };
+
+  o.candidate_min_dynamic = 0.0;  // candidates ignored: the evidence's half only
+  DualBBoxFilter evidence_only(o);
+  evidence_only.setDynamicEvidence(evidence);
+  evidence->setPrediction(prediction);
+  EXPECT_EQ(removedOnBody(evidence_only), 100);
+
+  o.candidate_min_dynamic = 0.3;
+  DualBBoxFilter fused(o);
+  fused.setDynamicEvidence(evidence);
+  EXPECT_EQ(removedOnBody(fused), 200);
+  const cv::Mat all_static = depth.clone();  // the person wholly in the prediction now
+  evidence->setPrediction(all_static);
+  EXPECT_EQ(removedOnBody(fused), 200);  // carried, 1 frame without evidence
+  EXPECT_EQ(removedOnBody(fused), 200);  // 2
+  EXPECT_EQ(removedOnBody(fused), 0);    // memory spent
+
+  // Too little evidence (a tenth of the region, under 0.3): no person, only the evidence's pixels go.
+  cv::Mat little = depth.clone();
+  little(cv::Rect(10, 23, 10, 2)).setTo(3.0f);
+  evidence->setPrediction(little);
+  DualBBoxFilter fresh(o);
+  fresh.setDynamicEvidence(evidence);
+  EXPECT_EQ(removedOnBody(fresh), 20);
+}
+
 TEST(WarpDepth, IdentityAndTranslation) {
   cv::Mat depth = cv::Mat::zeros(30, 40, CV_32F);
   depth.at<float>(15, 20) = 2.f;

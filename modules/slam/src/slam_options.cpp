@@ -57,6 +57,8 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   f.temporal = config.boolean("filter.temporal", f.temporal);
   f.geometric = config.boolean("filter.geometric", f.geometric);
   o.geometric_margin = config.number("filter.geometric_margin", o.geometric_margin);
+  f.candidate_min_dynamic = config.number("filter.candidate_min_dynamic", f.candidate_min_dynamic);
+  f.candidate_memory = config.integer("filter.candidate_memory", f.candidate_memory);
   o.geometric_opening = config.integer("filter.geometric_opening", o.geometric_opening);
   o.prediction.keyframes = config.integer("filter.geometric_keyframes", o.prediction.keyframes);
 
@@ -135,6 +137,9 @@ void validateOptions(const SlamOptions& o) {
   const double inf = std::numeric_limits<double>::infinity();
   checkRange("filter.mask_reach", o.filter.mask_box_reach, 0, 200, "pixels");
   checkRange("filter.geometric_margin", o.geometric_margin, 0.01, 2.0, "metres");
+  checkRange("filter.candidate_min_dynamic", o.filter.candidate_min_dynamic, 0.0, 1.0,
+             "fraction of a candidate's pixels (0 = candidates ignored)");
+  checkRange("filter.candidate_memory", o.filter.candidate_memory, 0, 254, "frames");
   checkRange("filter.geometric_opening", o.geometric_opening, 0, 50, "pixels");
   checkRange("filter.geometric_keyframes", o.prediction.keyframes, 1, 10, "keyframes");
   const RgbdOdometry::Options& d = o.tracker.odometry;

@@ -21,7 +21,8 @@
 //               (boxes that were missed or too small); a pixel is guarded at most temporal_max_age
 //               frames without a box supporting it;
 //   geometric — a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
-//               dynamic wherever it has an opinion.
+//               dynamic wherever it has an opinion; a detector's candidate region with enough of
+//               that evidence is removed whole (candidate_min_dynamic).
 #include <memory>
 #include <vector>
 
@@ -142,6 +143,15 @@ class DualBBoxFilter {
     double temporal_margin = 0.15;   // metres a depth may differ from the moved previous one
     int temporal_max_age = 4;        // frames a pixel may be guarded without any box supporting it
     bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
+    double candidate_min_dynamic = 0.3;  // with geometric: a detector's candidate region
+                                     // (Detections::candidates) at least this fraction of whose
+                                     // measured pixels are dynamic evidence is a person missed by
+                                     // the detector, and its whole mask (dilated by mask_dilation)
+                                     // is removed: the evidence finds where a person moved, the
+                                     // mask fills in the rest of them. In [0, 1]; 0 = ignored
+    int candidate_memory = 30;       // frames a candidate lying mostly (half its pixels) on last
+                                     // frame's confirmed pixels or detected people stays confirmed
+                                     // without fresh evidence, in [0, 254]
   };
 
   struct Person {
@@ -193,6 +203,9 @@ class DualBBoxFilter {
   void dilateBandGroups(const std::vector<BandGroup>& groups, const cv::Size& half, const cv::Rect& area);
   cv::Rect guardPixels(const cv::Mat& depth, const cv::Rect& area);
   cv::Mat geometricEvidence(const cv::Mat& depth);
+  void confirmCandidates(const cv::Mat& depth, const Detections& detections, cv::Mat* dynamic);
+  int candidateAge(const cv::Mat& depth, const cv::Mat& mask, const cv::Mat& dynamic,
+                   const cv::Mat& previous_age) const;
   void carryToNextFrame(const cv::Mat& depth, const std::vector<cv::Rect>& areas, const cv::Rect& guarded_area);
 
   Options options_;
@@ -207,6 +220,10 @@ class DualBBoxFilter {
   cv::Mat previous_depth_;  // CV_32F depth of the people's and guarded pixels, 0 elsewhere
   cv::Mat previous_age_;    // CV_8U frames since a box last supported each (where depth > 0)
   cv::Rect previous_bounds_;  // bounds of previous_depth_'s non-zero pixels: the warp scans only these
+  // Geometric addition: per pixel, frames since the confirmed candidate covering it last had
+  // evidence of its own (0 = this frame); kNotConfirmed where no candidate was confirmed.
+  static constexpr int kNotConfirmed = 255;
+  cv::Mat confirmed_age_;
 };
 
 // Integer pixel rectangle of a box scaled by `scale` about its centre, clipped to the image.

@@ -28,7 +28,8 @@ int confidentKeypoints(const PersonDetection& pose, float min_score) {
 std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
                                                  const std::vector<PersonDetection>& all_poses,
                                                  const cv::Mat& probability,
-                                                 const LearnedPersonDetector::Options& options) {
+                                                 const LearnedPersonDetector::Options& options,
+                                                 std::vector<PersonDetection>* unclaimed) {
   // Only confident poses are people; the selfie mask alone is no evidence of one.
   std::vector<PersonDetection> poses;
   for (const PersonDetection& pose : all_poses)
@@ -44,9 +45,16 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
     std::vector<size_t> owners;
     for (size_t i = 0; i < poses.size(); ++i)
       if (!claims[i].empty() && cv::countNonZero(component.mask(claims[i])) > 0) owners.push_back(i);
-    if (owners.empty()) continue;  // no person supports it
+    const bool too_large = cv::countNonZero(component.mask) > max_area;
+    if (owners.empty()) {  // no person supports it: at most a candidate
+      if (unclaimed && !too_large) {
+        unclaimed->push_back(component);
+        unclaimed->back().score = static_cast<float>(cv::mean(probability, component.mask)[0]);
+      }
+      continue;
+    }
     cv::Mat mask = component.mask;
-    if (cv::countNonZero(mask) > max_area) {  // implausibly large: keep only what the people claim
+    if (too_large) {  // implausibly large: keep only what the people claim
       cv::Mat claimed(mask.size(), CV_8U, cv::Scalar(0));
       for (size_t i : owners) claimed(claims[i]).setTo(255);
       mask = cv::Mat();  // a new buffer: the caller's component stays as it was
@@ -156,7 +164,7 @@ Detections LearnedPersonDetector::detect(const Frame& frame) {
 
   Detections result;
   result.timestamp = frame.timestamp;
-  result.people = combineMasksAndPoses(components, poses_, probability, options_);
+  result.people = combineMasksAndPoses(components, poses_, probability, options_, &result.candidates);
   return result;
 }
 

@@ -63,13 +63,18 @@ TEST(CombineMasksAndPoses, DropsUnsupportedMasksAndWeakPosesKeepsMasklessPoses) 
   const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.7));
   PersonDetection weak = pose(15, 55, 35);  // over the mask, but only 3 confident keypoints
   for (size_t k = 3; k < weak.keypoints.size(); ++k) weak.keypoints[k].score = 0.2f;
+  std::vector<PersonDetection> unclaimed;
   const std::vector<PersonDetection> people = combineMasksAndPoses(
-      {component(mask)}, {weak, pose(140, 180, 160)}, probability, LearnedPersonDetector::Options());
+      {component(mask)}, {weak, pose(140, 180, 160)}, probability, LearnedPersonDetector::Options(), &unclaimed);
   ASSERT_EQ(people.size(), 1u);
   EXPECT_TRUE(people[0].mask.empty());
   EXPECT_EQ(people[0].keypoints.size(), 17u);
   EXPECT_FLOAT_EQ(people[0].box.x_ul, 140.f);
   EXPECT_FLOAT_EQ(people[0].score, 0.4f);
+  // The unsupported mask is not a person but is handed on as a candidate, whole.
+  ASSERT_EQ(unclaimed.size(), 1u);
+  EXPECT_EQ(cv::countNonZero(unclaimed[0].mask != mask), 0);
+  EXPECT_NEAR(unclaimed[0].score, 0.7f, 1e-6f);
 
   // With the weak pose's fourth keypoint confident it supports the mask and takes all of it.
   weak.keypoints[3].score = 0.3f;
@@ -94,6 +99,9 @@ TEST(CombineMasksAndPoses, CutsAnImplausiblyLargeComponentToThePersonsBox) {
   EXPECT_EQ(cv::countNonZero(people[0].mask), 50 * 80);  // the box x 20..70, y 10..90
   EXPECT_EQ(cv::countNonZero(people[0].mask(cv::Rect(20, 10, 50, 80))), 50 * 80);
   EXPECT_EQ(cv::countNonZero(mask), 180 * kH);  // the input component is left alone
+  std::vector<PersonDetection> unclaimed;
+  combineMasksAndPoses({component(mask)}, {}, probability, options, &unclaimed);
+  EXPECT_TRUE(unclaimed.empty());  // without a person, too large to be a candidate
 
   options.max_component_fraction = 1.0;  // no limit: the person takes the whole component
   people = combineMasksAndPoses({component(mask)}, {pose(20, 70, 45)}, probability, options);

@@ -35,6 +35,11 @@ struct PersonDetection {
 struct Detections {
   double timestamp = 0;
   std::vector<PersonDetection> people;
+  // Person-like regions (each with a mask) the backend saw without the evidence to call them
+  // people, e.g. a segmentation component no confident pose touches (a person cut by the border,
+  // blurred or too close for the pose network). Not people: a later stage may confirm them with
+  // evidence of its own (the filter's geometric addition: depth in front of the static scene).
+  std::vector<PersonDetection> candidates;
 };
 
 class HumanDetector {

@@ -9,7 +9,8 @@
 // better than the mask alone. Components no person touches are dropped; a component larger than
 // max_component_fraction of the image is cut to the boxes of the people touching it. People with no
 // mask under them stay as boxes without a mask. A person's score is the mean mask probability when
-// it has a mask, MoveNet's score otherwise.
+// it has a mask, MoveNet's score otherwise. Components no person touches (and not implausibly
+// large) are handed on as Detections::candidates.
 #include <memory>
 #include <string>
 #include <vector>
@@ -65,10 +66,13 @@ class LearnedPersonDetector : public HumanDetector {
 // selfie mask components (SelfieSegmenter::components) to the MoveNet poses with at least
 // min_pose_keypoints confident keypoints, as described above (other poses and the components they
 // leave are dropped); probability is the selfie probability image the components come from.
-// Thread safe.
+// With a non-null `unclaimed`, the components no confident pose touches and no larger than
+// max_component_fraction of the image are appended to it (score: their mean probability), as
+// candidates for Detections::candidates. Thread safe.
 std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
                                                  const std::vector<PersonDetection>& poses,
                                                  const cv::Mat& probability,
-                                                 const LearnedPersonDetector::Options& options);
+                                                 const LearnedPersonDetector::Options& options,
+                                                 std::vector<PersonDetection>* unclaimed = nullptr);
 
 }  // namespace pf2
