@@ -177,11 +177,15 @@ void PoseGraphBackend::addNode(const Pending& pending) {
 std::vector<int> PoseGraphBackend::localNeighbours(int id, int reference_id) const {
   std::vector<std::pair<double, int>> near;
   if (options_.local_edges <= 0) return {};
-  const Eigen::Vector3d position = graph_.pose(id).translation();
+  const Eigen::Isometry3d pose = graph_.pose(id);
   for (int other = std::max(0, id - options_.min_loop_gap + 1); other < id; ++other) {
     if (other == reference_id || !graph_.hasNode(other)) continue;
-    const double distance = (graph_.pose(other).translation() - position).norm();
-    if (distance <= options_.local_radius) near.emplace_back(distance, other);
+    const Eigen::Isometry3d relative = graph_.pose(other).inverse() * pose;
+    const double distance = relative.translation().norm();
+    const double angle = rotationAngle(relative.rotation());
+    // Nearest first, a metre counted like a radian (as the keyframe thresholds are alike).
+    if (distance <= options_.local_radius && angle <= options_.local_max_angle)
+      near.emplace_back(distance + angle, other);
   }
   std::sort(near.begin(), near.end());
   std::vector<int> ids;

@@ -75,6 +75,7 @@ void applyConfig(const ConfigFile& config, SlamOptions* options) {
   t.max_bridged_frames = config.integer("tracker.max_bridged_frames", t.max_bridged_frames);
   t.backend.local_edges = config.integer("tracker.local_edges", t.backend.local_edges);
   t.backend.local_radius = config.number("tracker.local_radius", t.backend.local_radius);
+  t.backend.local_max_angle = config.number("tracker.local_max_angle", t.backend.local_max_angle);
   t.odometry.max_points_per_level = config.integer("tracker.max_points_per_level", t.odometry.max_points_per_level);
   t.odometry.iterations_coarse = config.integer("tracker.iterations_coarse", t.odometry.iterations_coarse);
   t.odometry.iterations_fine = config.integer("tracker.iterations_fine", t.odometry.iterations_fine);
@@ -157,6 +158,7 @@ void validateOptions(const SlamOptions& o) {
   checkRange("tracker.person_mask_dilation", d.person_mask_dilation, 0, 100, "pixels");
   checkRange("tracker.local_edges", o.tracker.backend.local_edges, 0, 9, "keyframes");
   checkRange("tracker.local_radius", o.tracker.backend.local_radius, 0.0, 10.0, "metres");
+  checkRange("tracker.local_max_angle", o.tracker.backend.local_max_angle, 0.0, 3.15, "radians");
 }
 
 }  // namespace pf2

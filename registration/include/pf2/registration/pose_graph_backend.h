@@ -49,11 +49,13 @@ class PoseGraphBackend {
     int max_candidates = 3;      // candidates verified per new keyframe, best-voted first
     // Local window: each new keyframe is also aligned (dense, from the graph's relative pose) onto
     // up to this many of the keyframes closer than min_loop_gap ids, other than its reference,
-    // whose positions lie within local_radius. Verified like a loop, these edges tie together the
+    // within local_radius and local_max_angle of it, nearest first. Verified like a loop, these edges tie together the
     // keyframes of one place, so the chain's drift is corrected as it arises (the neighbouring
     // keyframe constraints of DVO-SLAM) instead of only when a loop closes. 0 = chain and loops.
     int local_edges = 3;
     double local_radius = 0.5;  // metres between the keyframes' positions
+    double local_max_angle = 0.5;  // radians between their orientations (views ~30 degrees apart
+                                   // still share most of a 60-degree field of view)
     double min_local_agreement = 0.7;  // a local alignment's inliers per associated point
   };
 
