@@ -35,7 +35,9 @@ const char* kUsage =
     "  --eval GROUNDTRUTH   print ATE (and RPE over 1 s) of the trajectory at the end\n"
     "  --gt-format F        tum or bonn (GROUNDTRUTH holds Bonn RGB-D Dynamic marker poses); default\n"
     "                       bonn for a folder named rgbd_bonn_*, else tum\n"
-    "  --config FILE        'section.key value' settings (docs/slam.md lists the keys)\n"
+    "  --config FILE        'section.key value' settings (docs/config.md lists the keys)\n"
+    "  --set KEY=VALUE      one setting, after --config (repeatable); e.g. --set map.voxel_size=0.02\n"
+    "  --settings           print every setting (key, default, unit, allowed values, meaning) and exit\n"
     "  --frames N           process only the first N frames\n"
     "  --no-map             track only; no TSDF/OctoMap\n"
     "  --pcd                also write map.pcd (the mesh vertices as coloured points)\n"
@@ -79,9 +81,13 @@ int run(int argc, char** argv) {
     return 0;
   }
   pf2::SlamOptions options;
-  if (const auto config_path = cli.value("--config")) {
-    pf2::applyConfig(pf2::ConfigFile::load(*config_path), &options);
+  pf2::Settings settings = pf2::slamSettings(&options);
+  if (cli.flag("--settings")) {
+    std::cout << settings.markdown();
+    return 0;
   }
+  if (const auto config_path = cli.value("--config")) settings.apply(pf2::ConfigFile::load(*config_path));
+  for (const std::string& assignment : cli.values("--set")) settings.setAssignment(assignment);
   const std::string out_dir = cli.value("-o", "pf2_output");
   options.detector = cli.value("--detector", options.detector);
   options.max_frames = cli.integer("--frames", options.max_frames);

@@ -5,18 +5,7 @@
 set -u
 view=$1 stats=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-
-# expect_error NAME ARGS...: exit 1 and exactly one stderr line that contains NAME.
-expect_error() {
-  local name=$1; shift
-  local err code
-  err=$("$@" 2>&1 >/dev/null); code=$?
-  [ "$code" -eq 1 ] || fail "$name: exit code $code (want 1)"
-  [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$name: not one error line: $err"
-  printf "%s" "$err" | grep -q -- "$name" || fail "$name not named in: $err"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/cli_test_lib.sh"
 
 # -h prints usage with the keys and exits 0.
 help=$("$view" -h) || fail "-h exit code"

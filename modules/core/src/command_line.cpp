@@ -32,15 +32,21 @@ bool CommandLine::flag(const std::string& name) {
   return found;
 }
 
-std::optional<std::string> CommandLine::value(const std::string& name) {
-  std::optional<std::string> result;
+std::vector<std::string> CommandLine::values(const std::string& name) {
+  std::vector<std::string> result;
   for (size_t i = 0; i < args_.size(); ++i) {
     if (used_[i] || args_[i] != name) continue;
     if (i + 1 >= args_.size()) throw Error("option " + name + " needs a value");
     used_[i] = used_[i + 1] = true;
-    result = args_[i + 1];
+    result.push_back(args_[i + 1]);
   }
   return result;
+}
+
+std::optional<std::string> CommandLine::value(const std::string& name) {
+  const std::vector<std::string> all = values(name);
+  if (all.empty()) return std::nullopt;
+  return all.back();
 }
 
 std::string CommandLine::value(const std::string& name, const std::string& fallback) {

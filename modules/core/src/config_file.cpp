@@ -82,6 +82,11 @@ std::string ConfigFile::text(const std::string& key, const std::string& fallback
   return entry ? entry->value : fallback;
 }
 
+std::string ConfigFile::where(const std::string& key) const {
+  const auto it = values_.find(key);
+  return it == values_.end() ? path_ : path_ + ":" + std::to_string(it->second.line);
+}
+
 void ConfigFile::checkAllUsed() const {
   for (const auto& [key, entry] : values_) {
     if (!used_.count(key)) throw fileError(path_, entry.line, "unknown key '" + key + "'");

@@ -1,7 +1,5 @@
 #include "pf2/slam/slam_options.h"
 
-#include <limits>
-#include <sstream>
 
 #include "pf2/core/error.h"
 
@@ -35,130 +33,149 @@ Mapper::Options SlamOptions::defaultMapperOptions() {
   return options;
 }
 
-void applyConfig(const ConfigFile& config, SlamOptions* options) {
-  SlamOptions& o = *options;
-  o.detector = config.text("detector.name", o.detector);
-  o.detection.gt.provide_mask = config.boolean("detector.gt_masks", o.detection.gt.provide_mask);
-  o.detection.gt.degradation.shrink = config.number("detector.gt_shrink", o.detection.gt.degradation.shrink);
-  o.detection.gt.degradation.drop_probability =
-      config.number("detector.gt_drop", o.detection.gt.degradation.drop_probability);
-
-  DualBBoxFilter::Options& f = o.filter;
-  f.min_confidence = config.number("filter.min_confidence", f.min_confidence);
-  f.box_scale = config.number("filter.box_scale", f.box_scale);
-  f.background_margin = config.number("filter.background_margin", f.background_margin);
-  f.human_margin = config.number("filter.human_margin", f.human_margin);
-  f.human_histogram.surround_weight = config.number("filter.surround_weight", f.human_histogram.surround_weight);
-  f.surround_scale = config.number("filter.surround_scale", f.surround_scale);
-  f.separate_occlusions = config.boolean("filter.separate_occlusions", f.separate_occlusions);
-  f.use_mask = config.boolean("filter.use_mask", f.use_mask);
-  f.mask_dilation = config.integer("filter.mask_dilation", f.mask_dilation);
-  f.mask_box_reach = config.integer("filter.mask_reach", f.mask_box_reach);
-  f.temporal = config.boolean("filter.temporal", f.temporal);
-  f.geometric = config.boolean("filter.geometric", f.geometric);
-  o.geometric_margin = config.number("filter.geometric_margin", o.geometric_margin);
-  f.candidate_min_dynamic = config.number("filter.candidate_min_dynamic", f.candidate_min_dynamic);
-  f.candidate_memory = config.integer("filter.candidate_memory", f.candidate_memory);
-  o.geometric_opening = config.integer("filter.geometric_opening", o.geometric_opening);
-  o.prediction.keyframes = config.integer("filter.geometric_keyframes", o.prediction.keyframes);
-
-  Tracker::Options& t = o.tracker;
-  t.odometry.pyramid_levels = config.integer("tracker.pyramid_levels", t.odometry.pyramid_levels);
-  t.odometry.finest_level = config.integer("tracker.finest_level", t.odometry.finest_level);
-  t.odometry.photometric_weight = config.number("tracker.photometric_weight", t.odometry.photometric_weight);
-  t.odometry.prior_sigma_translation =
-      config.number("tracker.prior_sigma_translation", t.odometry.prior_sigma_translation);
-  t.odometry.prior_sigma_rotation = config.number("tracker.prior_sigma_rotation", t.odometry.prior_sigma_rotation);
-  t.odometry.depth_sigma = config.number("tracker.depth_sigma", t.odometry.depth_sigma);
-  t.odometry.intensity_sigma = config.number("tracker.intensity_sigma", t.odometry.intensity_sigma);
-  t.odometry.min_intensity_sigma = config.number("tracker.min_intensity_sigma", t.odometry.min_intensity_sigma);
-  t.max_bridged_frames = config.integer("tracker.max_bridged_frames", t.max_bridged_frames);
-  t.backend.local_edges = config.integer("tracker.local_edges", t.backend.local_edges);
-  t.backend.local_radius = config.number("tracker.local_radius", t.backend.local_radius);
-  t.backend.local_max_angle = config.number("tracker.local_max_angle", t.backend.local_max_angle);
-  t.odometry.max_points_per_level = config.integer("tracker.max_points_per_level", t.odometry.max_points_per_level);
-  t.odometry.iterations_coarse = config.integer("tracker.iterations_coarse", t.odometry.iterations_coarse);
-  t.odometry.iterations_fine = config.integer("tracker.iterations_fine", t.odometry.iterations_fine);
-  t.odometry.huber_k = config.number("tracker.huber_k", t.odometry.huber_k);
-  t.odometry.person_mask_dilation = config.integer("tracker.person_mask_dilation", t.odometry.person_mask_dilation);
-  t.odometry.features_every_frame =
-      config.boolean("tracker.features_every_frame", t.odometry.features_every_frame);
-  t.keyframes.max_translation = config.number("tracker.keyframe_translation", t.keyframes.max_translation);
-  t.keyframes.max_rotation = config.number("tracker.keyframe_rotation", t.keyframes.max_rotation);
-  t.asynchronous_backend = config.boolean("tracker.asynchronous_backend", t.asynchronous_backend);
-
-  HumanTracker::Options& h = o.humans;
-  o.track_humans = config.boolean("humans.track", o.track_humans);
-  o.human_depth_in_interval = config.boolean("humans.depth_in_interval", o.human_depth_in_interval);
-  o.human_min_area = config.number("humans.min_area", o.human_min_area);
-  try {
-    h.association = humanAssociationFromName(config.text("humans.association", toString(h.association)));
-  } catch (const Error& e) {
-    throw Error(std::string("config key humans.association: ") + e.what());
-  }
-  h.gate = config.number("humans.gate", h.gate);
-  h.gate_growth = config.number("humans.gate_growth", h.gate_growth);
-  h.max_missed = config.integer("humans.max_missed", h.max_missed);
-  h.velocity_window = config.number("humans.velocity_window", h.velocity_window);
-  h.max_speed = config.number("humans.max_speed", h.max_speed);
-
-  Mapper::Options& m = o.mapper;
-  o.build_map = config.boolean("map.build", o.build_map);
-  o.fuse_every = config.integer("map.fuse_every", o.fuse_every);
-  m.tsdf.voxel_size = config.number("map.voxel_size", m.tsdf.voxel_size);
-  m.tsdf.truncation = config.number("map.truncation", m.tsdf.truncation);
-  m.tsdf.max_depth = config.number("map.max_depth", m.tsdf.max_depth);
-  m.build_occupancy = config.boolean("map.octomap", m.build_occupancy);
-  m.occupancy.resolution = config.number("map.octomap_resolution", m.occupancy.resolution);
-  m.max_stored_keyframes = config.integer("map.max_stored_keyframes", m.max_stored_keyframes);
-  m.keep_radius = config.number("map.keep_radius", m.keep_radius);
-  o.map_files.points_pcd = config.boolean("map.pcd", o.map_files.points_pcd);
-  o.map_files.mesh_obj = config.boolean("map.obj", o.map_files.mesh_obj);
-
-  o.max_frames = config.integer("run.max_frames", o.max_frames);
-  o.prefetch_frames = config.integer("run.prefetch_frames", o.prefetch_frames);
-  o.progress = config.boolean("run.progress", o.progress);
-  config.checkAllUsed();
-}
-
 namespace {
 
-// Throws pf2::Error naming the key, the value and the allowed range when value is outside [lo, hi].
-void checkRange(const char* key, double value, double lo, double hi, const char* unit) {
-  if (value >= lo && value <= hi) return;
-  std::ostringstream message;
-  message << "setting " << key << " = " << value << " is outside its range [" << lo << ", " << hi << "] "
-          << unit;
-  throw Error(message.str());
+constexpr double kPi = 3.14159265358979;
+
+void detectorSettings(SlamOptions& o, Settings& s) {
+  std::vector<std::string> names{"auto", "none"};
+  for (const std::string& name : humanDetectorNames()) names.push_back(name);
+  s.choice("detector.name", &o.detector, names,
+           "person detector, as `--detector`: auto = learned when its models are installed, else hog; "
+           "gt = the ground-truth oracle of pf2_synth folders");
+  s.boolean("detector.gt_masks", &o.detection.gt.provide_mask,
+            "gt hands its masks to the filter like a segmenting detector; false = the paper's boxes only");
+  s.number("detector.gt_shrink", &o.detection.gt.degradation.shrink, 0.0, 0.9, "fraction",
+           "gt boxes lose this fraction of their width and height");
+  s.number("detector.gt_drop", &o.detection.gt.degradation.drop_probability, 0.0, 1.0, "probability",
+           "gt misses each person with this probability");
+}
+
+void filterSettings(SlamOptions& o, Settings& s) {
+  DualBBoxFilter::Options& f = o.filter;
+  s.number("filter.min_confidence", &f.min_confidence, 0.0, 1.0, "score", "boxes with a higher score are used");
+  s.number("filter.box_scale", &f.box_scale, 1.0, 3.0, "factor", "lambda: box enlargement for the ring");
+  s.number("filter.background_margin", &f.background_margin, 0.0, 2.0, "metres", "margin around (b_min, b_max)");
+  s.number("filter.human_margin", &f.human_margin, 0.0, 2.0, "metres", "margin around (h_min, h_max)");
+  s.number("filter.surround_weight", &f.human_histogram.surround_weight, 0.0, 1.0, "weight",
+           "share of the surround's depth density taken off a person's histogram (docs/filters.md)");
+  s.number("filter.surround_scale", &f.surround_scale, 1.0, 5.0, "factor", "box enlargement giving the surround");
+  s.boolean("filter.separate_occlusions", &f.separate_occlusions, "overlapping boxes that found one person look again");
+  s.boolean("filter.use_mask", &f.use_mask, "use the detector's person masks");
+  s.integer("filter.mask_dilation", &f.mask_dilation, 0, 50, "pixels", "dilation of a person mask");
+  s.integer("filter.mask_reach", &f.mask_box_reach, 0, 200, "pixels",
+            "with masks, the box and ring rules act only this near a person's mask (0 = everywhere, the paper)");
+  s.boolean("filter.temporal", &f.temporal, "guard with the previous frame's person pixels");
+  s.boolean("filter.geometric", &f.geometric,
+            "remove depth in front of the newest keyframes' static depth seen from the predicted pose");
+  s.number("filter.geometric_margin", &o.geometric_margin, 0.01, 2.0, "metres", "in front of the prediction by more: dynamic");
+  s.integer("filter.geometric_opening", &o.geometric_opening, 0, 50, "pixels", "opening radius of the dynamic mask");
+  s.integer("filter.geometric_keyframes", &o.prediction.keyframes, 1, 10, "keyframes", "keyframes the prediction is made from");
+  s.number("filter.candidate_min_dynamic", &f.candidate_min_dynamic, 0.0, 1.0, "fraction",
+           "share of a detector candidate's measured pixels in front of the prediction that makes it a person "
+           "(0 = candidates ignored)");
+  s.integer("filter.candidate_memory", &f.candidate_memory, 0, 254, "frames",
+            "a confirmed candidate stays one without fresh evidence while it follows a confirmed region or person");
+}
+
+void odometrySettings(RgbdOdometry::Options& d, Settings& s) {
+  s.integer("tracker.pyramid_levels", &d.pyramid_levels, 1, 6, "levels", "odometry pyramid levels, each half the size");
+  s.integer("tracker.finest_level", &d.finest_level, 0, 5, "level", "finest level iterated (1 = stop at half size)");
+  s.require([&d] { return d.finest_level < d.pyramid_levels; },
+            "tracker.finest_level must lie in the range [0, tracker.pyramid_levels - 1]");
+  s.number("tracker.photometric_weight", &d.photometric_weight, 0.0, 100.0, "weight",
+           "weight of the photometric term (0 = ICP only)");
+  s.boolean("tracker.features_every_frame", &d.features_every_frame, "ORB + RANSAC on every frame, not only on failure");
+  s.number("tracker.prior_sigma_translation", &d.prior_sigma_translation, 0.0, 10.0, "metres",
+           "motion prior per frame (0 = none)");
+  s.number("tracker.prior_sigma_rotation", &d.prior_sigma_rotation, 0.0, kPi, "radians", "motion prior per frame (0 = none)");
+  s.number("tracker.depth_sigma", &d.depth_sigma, 1e-4, 1.0, "metres", "depth noise at 1 m (grows with z squared)");
+  s.number("tracker.intensity_sigma", &d.intensity_sigma, 1e-3, 1.0, "intensity", "largest photometric noise");
+  s.number("tracker.min_intensity_sigma", &d.min_intensity_sigma, 0.0, 1.0, "intensity",
+           "smallest measured photometric noise (0 = always tracker.intensity_sigma)");
+  s.require([&d] { return d.min_intensity_sigma <= d.intensity_sigma; },
+            "tracker.min_intensity_sigma must lie in the range [0, tracker.intensity_sigma]");
+  s.integer("tracker.max_points_per_level", &d.max_points_per_level, 100, 1000000, "samples", "dense samples per level");
+  s.integer("tracker.iterations_coarse", &d.iterations_coarse, 1, 100, "iterations", "Gauss-Newton, coarsest level");
+  s.integer("tracker.iterations_fine", &d.iterations_fine, 1, 100, "iterations", "Gauss-Newton, finest level");
+  s.number("tracker.huber_k", &d.huber_k, 0.1, 100.0, "sigmas", "Huber threshold on normalised residuals");
+  s.integer("tracker.person_mask_dilation", &d.person_mask_dilation, 0, 100, "pixels",
+            "added around person masks before they are cut out of the odometry");
+}
+
+void trackerSettings(SlamOptions& o, Settings& s) {
+  Tracker::Options& t = o.tracker;
+  odometrySettings(t.odometry, s);
+  s.integer("tracker.max_bridged_frames", &t.max_bridged_frames, 0, 300, "frames",
+            "frames in a row given the motion prior's pose before the camera counts as lost");
+  s.integer("tracker.local_edges", &t.backend.local_edges, 0, 9, "keyframes",
+            "each new keyframe is also aligned onto up to this many near keyframes among the previous nine (0 = chain and loops)");
+  s.number("tracker.local_radius", &t.backend.local_radius, 0.0, 10.0, "metres", "of the local window");
+  s.number("tracker.local_max_angle", &t.backend.local_max_angle, 0.0, kPi, "radians", "of the local window");
+  s.number("tracker.keyframe_translation", &t.keyframes.max_translation, 0.01, 5.0, "metres", "new keyframe after");
+  s.number("tracker.keyframe_rotation", &t.keyframes.max_rotation, 0.01, kPi, "radians", "new keyframe after");
+  s.boolean("tracker.asynchronous_backend", &t.asynchronous_backend, "pose graph in its own thread");
+}
+
+void humanSettings(SlamOptions& o, Settings& s) {
+  HumanTracker::Options& h = o.humans;
+  s.boolean("humans.track", &o.track_humans, "write humans.txt (needs a detector)");
+  s.boolean("humans.depth_in_interval", &o.human_depth_in_interval,
+            "d_m over the person's depths inside their interval; false = all of D_h^t (the paper)");
+  s.number("humans.min_area", &o.human_min_area, 0.0, 1.0, "fraction", "no centre for a person covering less of the image");
+  s.custom("humans.association",
+           [&h](const std::string& text) { h.association = humanAssociationFromName(text); },
+           [&h] { return toString(h.association); }, "predicted, paper",
+           "predicted: constant velocity, gated Hungarian; paper: closest centre of the previous frame");
+  s.number("humans.gate", &h.gate, 0.05, 10.0, "metres", "largest distance between a track's prediction and a centre");
+  s.number("humans.gate_growth", &h.gate_growth, 0.0, 10.0, "m/s", "gate growth while a track is unseen");
+  s.integer("humans.max_missed", &h.max_missed, 0, 100000, "frames", "a track lives this long unseen");
+  s.number("humans.velocity_window", &h.velocity_window, 0.01, 10.0, "seconds", "a track's velocity is measured over");
+  s.number("humans.max_speed", &h.max_speed, 0.1, 20.0, "m/s", "velocity clamp");
+}
+
+void mapSettings(SlamOptions& o, Settings& s) {
+  Mapper::Options& m = o.mapper;
+  s.boolean("map.build", &o.build_map, "fuse the map (TSDF and OctoMap)");
+  s.integer("map.fuse_every", &o.fuse_every, 0, 1000, "frames",
+            "also fuse every n-th tracked frame between keyframes (0 = keyframes only)");
+  s.number("map.voxel_size", &m.tsdf.voxel_size, 0.002, 0.2, "metres", "TSDF voxel edge");
+  s.number("map.truncation", &m.tsdf.truncation, 0.004, 1.0, "metres", "TSDF truncation distance");
+  s.require([&m] { return m.tsdf.truncation >= m.tsdf.voxel_size; }, "map.truncation must lie in the range [map.voxel_size, 1]");
+  s.number("map.max_depth", &m.tsdf.max_depth, 0.3, 20.0, "metres", "depth beyond is not fused");
+  s.boolean("map.octomap", &m.build_occupancy, "build the OctoMap");
+  s.number("map.octomap_resolution", &m.occupancy.resolution, 0.01, 1.0, "metres", "OctoMap leaf size");
+  s.integer("map.max_stored_keyframes", &m.max_stored_keyframes, 0, 100000, "keyframes",
+            "keyframes kept re-integrable (0 = unbounded)");
+  s.number("map.keep_radius", &m.keep_radius, 0.0, 1000.0, "metres", "TSDF kept around the camera (0 = unbounded)");
+  s.boolean("map.pcd", &o.map_files.points_pcd, "also write map.pcd");
+  s.boolean("map.obj", &o.map_files.mesh_obj, "also write map.obj");
+}
+
+void runSettings(SlamOptions& o, Settings& s) {
+  s.integer("run.max_frames", &o.max_frames, 0, 100000000, "frames", "frames processed from the start (0 = all)");
+  s.integer("run.prefetch_frames", &o.prefetch_frames, 1, 64, "frames", "frames decoded ahead in a loader thread");
+  s.boolean("run.progress", &o.progress, "progress line with fps on standard error");
 }
 
 }  // namespace
 
-void validateOptions(const SlamOptions& o) {
-  const double inf = std::numeric_limits<double>::infinity();
-  checkRange("filter.mask_reach", o.filter.mask_box_reach, 0, 200, "pixels");
-  checkRange("filter.geometric_margin", o.geometric_margin, 0.01, 2.0, "metres");
-  checkRange("filter.candidate_min_dynamic", o.filter.candidate_min_dynamic, 0.0, 1.0,
-             "fraction of a candidate's pixels (0 = candidates ignored)");
-  checkRange("filter.candidate_memory", o.filter.candidate_memory, 0, 254, "frames");
-  checkRange("filter.geometric_opening", o.geometric_opening, 0, 50, "pixels");
-  checkRange("filter.geometric_keyframes", o.prediction.keyframes, 1, 10, "keyframes");
-  const RgbdOdometry::Options& d = o.tracker.odometry;
-  checkRange("tracker.prior_sigma_translation", d.prior_sigma_translation, 0, inf, "metres (0 = no prior)");
-  checkRange("tracker.prior_sigma_rotation", d.prior_sigma_rotation, 0, inf, "radians (0 = no prior)");
-  checkRange("tracker.depth_sigma", d.depth_sigma, 1e-4, 1.0, "metres at 1 m");
-  checkRange("tracker.intensity_sigma", d.intensity_sigma, 1e-3, 1.0, "intensity [0, 1]");
-  checkRange("tracker.min_intensity_sigma", d.min_intensity_sigma, 0, d.intensity_sigma,
-             "intensity (0 = not measured; at most tracker.intensity_sigma)");
-  checkRange("tracker.max_bridged_frames", o.tracker.max_bridged_frames, 0, 300, "frames");
-  checkRange("tracker.max_points_per_level", d.max_points_per_level, 100, 1000000, "samples");
-  checkRange("tracker.iterations_coarse", d.iterations_coarse, 1, 100, "iterations");
-  checkRange("tracker.iterations_fine", d.iterations_fine, 1, 100, "iterations");
-  checkRange("tracker.huber_k", d.huber_k, 0.1, 100.0, "normalised residual");
-  checkRange("tracker.person_mask_dilation", d.person_mask_dilation, 0, 100, "pixels");
-  checkRange("tracker.local_edges", o.tracker.backend.local_edges, 0, 9, "keyframes");
-  checkRange("tracker.local_radius", o.tracker.backend.local_radius, 0.0, 10.0, "metres");
-  checkRange("tracker.local_max_angle", o.tracker.backend.local_max_angle, 0.0, 3.15, "radians");
+Settings slamSettings(SlamOptions* options) {
+  Settings settings;
+  detectorSettings(*options, settings);
+  filterSettings(*options, settings);
+  trackerSettings(*options, settings);
+  humanSettings(*options, settings);
+  mapSettings(*options, settings);
+  runSettings(*options, settings);
+  return settings;
+}
+
+void applyConfig(const ConfigFile& config, SlamOptions* options) { slamSettings(options).apply(config); }
+
+void validateOptions(const SlamOptions& options) {
+  SlamOptions checked = options;
+  slamSettings(&checked).validate();
 }
 
 }  // namespace pf2

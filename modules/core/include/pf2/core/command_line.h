@@ -15,9 +15,12 @@ class CommandLine {
   bool helpRequested() const;
   // True if --name is present (it is consumed).
   bool flag(const std::string& name);
-  // The argument after --name, consumed; nullopt when absent; throws when --name is last.
+  // The argument after the last --name (all consumed); nullopt when absent; throws when --name
+  // is last.
   std::optional<std::string> value(const std::string& name);
   std::string value(const std::string& name, const std::string& fallback);
+  // The arguments of every --name, in order, consumed (a repeatable option such as --set).
+  std::vector<std::string> values(const std::string& name);
   double number(const std::string& name, double fallback);
   int integer(const std::string& name, int fallback);
   // Remaining arguments; throws on an unknown option (anything left starting with '-').

@@ -25,6 +25,9 @@ class ConfigFile {
   bool boolean(const std::string& key, bool fallback) const;  // true/false/1/0/on/off
   std::string text(const std::string& key, const std::string& fallback) const;
 
+  // "path:line" of a key's line, for messages ("path" alone for an absent key).
+  std::string where(const std::string& key) const;
+
   // Throws pf2::Error naming the first key nobody read (a typo in the file).
   void checkAllUsed() const;
 

@@ -1,9 +1,10 @@
 #pragma once
 // Every knob of the pipeline in one struct made of the stages' own Options (DESIGN.md: one list
-// of knobs). pf2_slam --config reads a ConfigFile into it; docs/slam.md lists the keys.
+// of knobs). slamSettings() declares each setting once; docs/config.md is generated from it.
 #include <string>
 
 #include "pf2/core/config_file.h"
+#include "pf2/core/settings.h"
 #include "pf2/detection/detector_factory.h"
 #include "pf2/filters/dual_bbox_filter.h"
 #include "pf2/humans/human_tracker.h"
@@ -60,13 +61,16 @@ struct SlamOptions {
   static Mapper::Options defaultMapperOptions();
 };
 
-// Reads the keys documented in docs/slam.md from `config` into `options` (absent keys keep
-// their values) and fails on keys nobody reads. Throws pf2::Error naming file, line and key.
+// Every setting of SlamOptions, declared once with its key, unit, range and meaning (the list is
+// docs/config.md, generated from it): bound to *options, which must outlive the result.
+Settings slamSettings(SlamOptions* options);
+
+// Reads the keys of `config` into `options` (absent keys keep their values); fails on a key
+// nobody declared or a value outside its range. Throws pf2::Error naming file, line and key.
 void applyConfig(const ConfigFile& config, SlamOptions* options);
 
-// Checks the settings with a declared range (the pipeline's own: geometric addition, mask reach,
-// odometry noise and prior, bridging); throws pf2::Error naming the setting, its value and the
-// allowed range. SlamSystem's constructor calls it.
+// Checks every setting against its declared range (values set in code); throws pf2::Error naming
+// the setting, its value and the allowed range. SlamSystem's constructor calls it.
 void validateOptions(const SlamOptions& options);
 
 }  // namespace pf2

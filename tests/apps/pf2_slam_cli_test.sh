@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# pf2_slam as a user runs it: the settings table in docs/config.md is the one the program
+# declares; bad settings (out of range, unknown key, bad config line) give one error line naming
+# them, exit status 1 and no output folder; a short run on the built-in synthetic sequence writes
+# its outputs, and --set changes what it does.
+# Usage: pf2_slam_cli_test.sh PF2_SLAM DOCS_CONFIG_MD WORK_DIR
+set -u
+slam=$1 docs=$2 work=$3
+rm -rf "$work" && mkdir -p "$work"
+source "$(dirname "${BASH_SOURCE[0]}")/cli_test_lib.sh"
+
+# refused NAME ARGS...: expect_error, and no output folder appeared.
+refused() {
+  local name=$1; shift
+  expect_error "$name" "$@" -o "$work/refused"
+  [ ! -e "$work/refused" ] || fail "$name: an output folder was created"
+}
+
+# The documented table is the declared one, row for row.
+"$slam" --settings > "$work/settings.md" || fail "--settings exit code"
+[ "$(wc -l < "$work/settings.md")" -gt 50 ] || fail "--settings lists too few settings"
+while IFS= read -r row; do
+  grep -qxF -- "$row" "$docs" || fail "docs/config.md is not current (scripts/update_config_doc.sh): $row"
+done < "$work/settings.md"
+
+refused "map.voxel_size = 100: outside its range [0.002, 0.2] metres" "$slam" --set map.voxel_size=100
+refused "map.voxel_size = 1e-6" "$slam" --set map.voxel_size=1e-6
+refused "unknown setting 'map.voxels'" "$slam" --set map.voxels=0.01
+refused "expected key=value" "$slam" --set map.voxel_size
+refused "tracker.finest_level must lie in the range [0, tracker.pyramid_levels - 1]" "$slam" --set tracker.finest_level=3
+printf 'map.build false\nfilter.mask_reach -4\n' > "$work/bad.cfg"
+refused "bad.cfg:2: setting filter.mask_reach = -4" "$slam" --config "$work/bad.cfg"
+printf 'map.buidl false\n' > "$work/typo.cfg"
+refused "typo.cfg:1: unknown key 'map.buidl'" "$slam" --config "$work/typo.cfg"
+
+# A short run with the oracle detector (no models needed): outputs present, one pose per frame.
+out="$work/run"
+"$slam" -o "$out" --detector gt --synth-frames 12 --synth-people 1 --no-map --quiet > "$work/run.log" 2>&1 ||
+  fail "run exit code: $(tail -n 3 "$work/run.log")"
+for f in trajectory.txt stats.json humans.txt; do [ -s "$out/$f" ] || fail "run: $f missing"; done
+[ "$(grep -vc '^#' "$out/trajectory.txt")" -eq 12 ] || fail "run: not 12 poses"
+grep -q '"frames":12' "$out/stats.json" || fail "run: stats.json frames"
+grep -q '^ate' "$work/run.log" || grep -qi 'ATE' "$work/run.log" || fail "run: no ATE printed"
+# --set after --config wins, and run.max_frames stops early.
+printf 'run.max_frames 10\n' > "$work/ten.cfg"
+"$slam" "$out/synthetic" -o "$work/run8" --detector gt --no-map --quiet --config "$work/ten.cfg" \
+  --set run.max_frames=8 > /dev/null 2>&1 || fail "run8 exit code"
+[ "$(grep -vc '^#' "$work/run8/trajectory.txt")" -eq 8 ] || fail "--set run.max_frames=8 did not give 8 poses"
+
+[ "$failures" -eq 0 ] && echo "pf2_slam_cli: all checks passed"
+exit $((failures > 0))
