@@ -304,36 +304,104 @@ std::size_t TsdfVolume::removeBlocksFartherThan(const Eigen::Vector3d& p_w, doub
   return removed;
 }
 
-TriangleMesh TsdfVolume::extractMesh() const {
+namespace {
+
+// Marching-cubes output of a chunk of blocks: vertices keyed by the voxel edge they lie on (shared
+// between neighbouring cubes and chunks) and triangles of those keys.
+struct MeshPart {
   struct EdgeVertex {
     std::uint64_t key;
     Eigen::Vector3f p_w;
     std::array<std::uint8_t, 3> rgb;
   };
-  struct Part {
-    std::vector<EdgeVertex> vertices;
-    std::vector<std::array<std::uint64_t, 3>> triangles;
-  };
+  std::vector<EdgeVertex> vertices;
+  std::vector<std::array<std::uint64_t, 3>> triangles;
+};
+
+using CubeCorners = std::array<const TsdfVolume::Voxel*, 8>;
+
+// A jump of more than half the range between neighbours is two truncated sides (a thin object
+// seen from both sides, or the back of the band), not a surface.
+bool consistentCube(const CubeCorners& corner) {
+  for (int e = 0; e < 12; ++e) {
+    const TsdfVolume::Voxel* a = corner[marching_cubes::kEdgeCorners[e][0]];
+    const TsdfVolume::Voxel* b = corner[marching_cubes::kEdgeCorners[e][1]];
+    if ((a->tsdf < 0.f) != (b->tsdf < 0.f) && std::abs(a->tsdf - b->tsdf) > 1.f) return false;
+  }
+  return true;
+}
+
+// The triangles of one cube (lower corner voxel `base`, case `cube_case`), their vertices
+// interpolated on the crossed edges in position and colour.
+void polygoniseCube(const CubeCorners& corner, int cube_case, const Eigen::Vector3i& base, float voxel,
+                    MeshPart* part) {
+  std::array<std::uint64_t, 12> keys{};
+  std::array<bool, 12> made{};
+  for (const auto& triangle : marching_cubes::triangles(cube_case)) {
+    std::array<std::uint64_t, 3> t;
+    for (int k = 0; k < 3; ++k) {
+      const int e = triangle[k];
+      if (!made[e]) {
+        const int c0 = marching_cubes::kEdgeCorners[e][0], c1 = marching_cubes::kEdgeCorners[e][1];
+        const TsdfVolume::Voxel& a = *corner[c0];
+        const TsdfVolume::Voxel& b = *corner[c1];
+        const float s = a.tsdf / (a.tsdf - b.tsdf);
+        const Eigen::Vector3i lower = base + Eigen::Vector3i(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
+        Eigen::Vector3f p_w = lower.cast<float>() * voxel;
+        p_w[marching_cubes::kEdgeAxis[e]] += s * voxel;
+        const auto mix = [s](float p, float q) {
+          return static_cast<std::uint8_t>(std::lround(std::clamp(p + s * (q - p), 0.f, 255.f)));
+        };
+        keys[e] = edgeKey(lower, marching_cubes::kEdgeAxis[e]);
+        made[e] = true;
+        part->vertices.push_back({keys[e], p_w, {mix(a.r, b.r), mix(a.g, b.g), mix(a.b, b.b)}});
+      }
+      t[k] = keys[e];
+    }
+    part->triangles.push_back(t);
+  }
+}
+
+// Parts merged in order: each edge's vertex once, at its first appearance.
+TriangleMesh mergeParts(const std::vector<MeshPart>& parts) {
+  TriangleMesh mesh;
+  std::unordered_map<std::uint64_t, int> index_of;
+  for (const MeshPart& part : parts) {
+    for (const MeshPart::EdgeVertex& vertex : part.vertices) {
+      if (index_of.emplace(vertex.key, static_cast<int>(mesh.vertices.size())).second) {
+        mesh.vertices.push_back(vertex.p_w);
+        mesh.colors.push_back(vertex.rgb);
+      }
+    }
+  }
+  for (const MeshPart& part : parts) {
+    for (const auto& t : part.triangles) {
+      mesh.triangles.emplace_back(index_of.at(t[0]), index_of.at(t[1]), index_of.at(t[2]));
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+TriangleMesh TsdfVolume::extractMesh() const {
   std::vector<std::pair<Eigen::Vector3i, const Block*>> all;
   all.reserve(blocks_.size());
   for (const auto& entry : blocks_) all.emplace_back(entry.first, entry.second.get());
   // One part per chunk of blocks, merged in chunk order: the mesh is the same whatever the threads.
   constexpr std::size_t kChunk = 32;
-  std::vector<Part> parts((all.size() + kChunk - 1) / kChunk);
+  std::vector<MeshPart> parts((all.size() + kChunk - 1) / kChunk);
   const float voxel = static_cast<float>(options_.voxel_size);
   const float min_weight = std::max(options_.mesh_min_weight, 1e-6f);
 
   surface_detail::parallelChunks(all.size(), options_.num_threads, kChunk, [&](int, std::size_t begin, std::size_t end) {
-    Part& part = parts[begin / kChunk];
+    MeshPart& part = parts[begin / kChunk];
     for (std::size_t i = begin; i < end; ++i) {
       const Eigen::Vector3i& index = all[i].first;
       // The block and its seven neighbours on the positive side, by offset bits x | y << 1 | z << 2.
       std::array<const Block*, 8> near{};
-      for (int n = 0; n < 8; ++n) {
-        if (n == 0) {
-          near[0] = all[i].second;
-          continue;
-        }
+      near[0] = all[i].second;
+      for (int n = 1; n < 8; ++n) {
         const auto it = blocks_.find(index + Eigen::Vector3i(n & 1, (n >> 1) & 1, (n >> 2) & 1));
         near[n] = it == blocks_.end() ? nullptr : it->second.get();
       }
@@ -345,7 +413,7 @@ TriangleMesh TsdfVolume::extractMesh() const {
       for (int z = 0; z < kSide; ++z) {
         for (int y = 0; y < kSide; ++y) {
           for (int x = 0; x < kSide; ++x) {
-            std::array<const Voxel*, 8> corner;
+            CubeCorners corner;
             int cube_case = 0;
             bool valid = true;
             for (int c = 0; c < 8 && valid; ++c) {
@@ -353,65 +421,14 @@ TriangleMesh TsdfVolume::extractMesh() const {
               valid = corner[c] && corner[c]->weight >= min_weight;
               if (valid && corner[c]->tsdf < 0.f) cube_case |= 1 << c;
             }
-            if (!valid || cube_case == 0 || cube_case == 255) continue;
-            const auto& cube_triangles = marching_cubes::triangles(cube_case);
-            // A jump of more than half the range between neighbours is two truncated sides (a thin
-            // object seen from both sides, or the back of the band), not a surface.
-            bool consistent = true;
-            for (int e = 0; e < 12 && consistent; ++e) {
-              const Voxel* a = corner[marching_cubes::kEdgeCorners[e][0]];
-              const Voxel* b = corner[marching_cubes::kEdgeCorners[e][1]];
-              if ((a->tsdf < 0.f) != (b->tsdf < 0.f)) consistent = std::abs(a->tsdf - b->tsdf) <= 1.f;
-            }
-            if (!consistent) continue;
-            const Eigen::Vector3i base = index * kSide + Eigen::Vector3i(x, y, z);
-            std::array<std::uint64_t, 12> keys{};
-            std::array<bool, 12> made{};
-            for (const auto& triangle : cube_triangles) {
-              std::array<std::uint64_t, 3> t;
-              for (int k = 0; k < 3; ++k) {
-                const int e = triangle[k];
-                if (!made[e]) {
-                  const int c0 = marching_cubes::kEdgeCorners[e][0], c1 = marching_cubes::kEdgeCorners[e][1];
-                  const Voxel& a = *corner[c0];
-                  const Voxel& b = *corner[c1];
-                  const float s = a.tsdf / (a.tsdf - b.tsdf);
-                  const Eigen::Vector3i lower = base + Eigen::Vector3i(c0 & 1, (c0 >> 1) & 1, (c0 >> 2) & 1);
-                  Eigen::Vector3f p_w = lower.cast<float>() * voxel;
-                  p_w[marching_cubes::kEdgeAxis[e]] += s * voxel;
-                  const auto mix = [s](float p, float q) {
-                    return static_cast<std::uint8_t>(std::lround(std::clamp(p + s * (q - p), 0.f, 255.f)));
-                  };
-                  keys[e] = edgeKey(lower, marching_cubes::kEdgeAxis[e]);
-                  made[e] = true;
-                  part.vertices.push_back({keys[e], p_w, {mix(a.r, b.r), mix(a.g, b.g), mix(a.b, b.b)}});
-                }
-                t[k] = keys[e];
-              }
-              part.triangles.push_back(t);
-            }
+            if (!valid || cube_case == 0 || cube_case == 255 || !consistentCube(corner)) continue;
+            polygoniseCube(corner, cube_case, index * kSide + Eigen::Vector3i(x, y, z), voxel, &part);
           }
         }
       }
     }
   });
-
-  TriangleMesh mesh;
-  std::unordered_map<std::uint64_t, int> index_of;
-  for (const Part& part : parts) {
-    for (const EdgeVertex& vertex : part.vertices) {
-      if (index_of.emplace(vertex.key, static_cast<int>(mesh.vertices.size())).second) {
-        mesh.vertices.push_back(vertex.p_w);
-        mesh.colors.push_back(vertex.rgb);
-      }
-    }
-  }
-  for (const Part& part : parts) {
-    for (const auto& t : part.triangles) {
-      mesh.triangles.emplace_back(index_of.at(t[0]), index_of.at(t[1]), index_of.at(t[2]));
-    }
-  }
-  return mesh;
+  return mergeParts(parts);
 }
 
 }  // namespace pf2
