@@ -1,6 +1,7 @@
 #include "pf2/detection/hog_detector.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
@@ -36,6 +37,25 @@ TEST(HogDetector, NothingInAnEmptyRoomAndScoresInRange) {
   HogDetector::Options bad;
   bad.pyramid_scale = 1.0;
   EXPECT_THROW(HogDetector d(bad), Error);
+}
+
+// A real frame with two people (TUM fr3/walking_xyz) and its reference person mask: HOG must find
+// someone, and every box it reports must lie mostly on a person (the one it finds: 55 %).
+TEST(HogDetector, FindsAPersonOnARealFrameWithPeople) {
+  const std::string dir = std::string(PF2_SHARED_DATA) + "/tum_fr3_walking_xyz_1frame/";
+  Frame frame;
+  frame.rgb = cv::imread(dir + "1341846313.553992.png");
+  const cv::Mat mask = cv::imread(dir + "1341846313.553992_person_mask.png", cv::IMREAD_GRAYSCALE);
+  if (frame.rgb.empty() || mask.empty()) GTEST_SKIP() << "no " << dir;
+  const std::vector<PersonDetection> people = HogDetector().detect(frame).people;
+  ASSERT_FALSE(people.empty());
+  for (const PersonDetection& p : people) {
+    const cv::Rect box = cv::Rect(cv::Point(cvRound(p.box.x_ul), cvRound(p.box.y_ul)),
+                                  cv::Point(cvRound(p.box.x_lr), cvRound(p.box.y_lr))) &
+                         cv::Rect(0, 0, mask.cols, mask.rows);
+    ASSERT_GT(box.area(), 0);
+    EXPECT_GT(cv::countNonZero(mask(box)), 0.4 * box.area()) << "box " << box;
+  }
 }
 
 }  // namespace
