@@ -41,6 +41,14 @@ for f in trajectory.txt stats.json humans.txt; do [ -s "$out/$f" ] || fail "run:
 [ "$(grep -vc '^#' "$out/trajectory.txt")" -eq 12 ] || fail "run: not 12 poses"
 grep -q '"frames":12' "$out/stats.json" || fail "run: stats.json frames"
 grep -q '^ate' "$work/run.log" || grep -qi 'ATE' "$work/run.log" || fail "run: no ATE printed"
+# With the map (the default): mesh and OctoMap files.
+"$slam" "$out/synthetic" -o "$work/mapped" --detector gt --frames 6 --quiet > /dev/null 2>&1 || fail "mapped run failed"
+for f in map.ply map.bt map.ot; do [ -s "$work/mapped/$f" ] || fail "mapped run: $f missing"; done
+# Without the OctoMap: the mesh, and no map.bt / map.ot.
+"$slam" "$out/synthetic" -o "$work/no_octomap" --detector gt --frames 6 --quiet --set map.octomap=false \
+  > "$work/no_octomap.log" 2>&1 || fail "map.octomap=false run failed: $(tail -n 2 "$work/no_octomap.log")"
+[ -s "$work/no_octomap/map.ply" ] || fail "map.octomap=false: no map.ply"
+[ ! -e "$work/no_octomap/map.bt" ] || fail "map.octomap=false: map.bt written"
 # --set after --config wins, and run.max_frames stops early.
 printf 'run.max_frames 10\n' > "$work/ten.cfg"
 "$slam" "$out/synthetic" -o "$work/run8" --detector gt --no-map --quiet --config "$work/ten.cfg" \

@@ -367,7 +367,11 @@ class PipelineRun {
     if (mapping_) {
       ScopedStageTimer timer(stats_, "map_export");
       mapping_->moveTo(keyframe_poses);
-      mapper_.exportMap(out_dir, options_.map_files);
+      // Without an OctoMap (map.octomap false) there is no map.bt / map.ot to write.
+      Mapper::ExportOptions files = options_.map_files;
+      files.octomap_bt = files.octomap_bt && options_.mapper.build_occupancy;
+      files.octomap_ot = files.octomap_ot && options_.mapper.build_occupancy;
+      mapper_.exportMap(out_dir, files);
     }
     const std::string json = summaryJson(summary, *stats_, tracker_.stats(), records_);
     writeFileAtomically(out_dir + "/stats.json", [&](std::ostream& out) { out << json; });
