@@ -314,6 +314,22 @@ cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
   return mask;
 }
 
+cv::Mat PredictedDepthEvidence::staticMask(const cv::Mat& depth) {
+  if (prediction_.empty() || !(static_margin_ > 0.0)) return cv::Mat();
+  cv::Mat mask(depth.size(), CV_8U);
+  const float margin = static_cast<float>(static_margin_);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const float* p = prediction_.ptr<float>(v);
+    uint8_t* m = mask.ptr<uint8_t>(v);
+    for (int u = 0, u_end = depth.cols; u < u_end; ++u) {
+      m[u] = static_cast<uint8_t>(
+          -static_cast<int>((p[u] > 0.f) & (d[u] > 0.f) & (std::fabs(d[u] - p[u]) < margin + 0.01f * d[u])));
+    }
+  }
+  return mask;
+}
+
 cv::Mat warpDepth(const cv::Mat& depth_src, const CameraIntrinsics& intrinsics,
                   const Eigen::Isometry3d& T_dst_src) {
   cv::Mat out;  // a fresh image: the caller keeps it
@@ -433,6 +449,18 @@ std::vector<cv::Rect> labelPeople(const cv::Mat& depth, const std::vector<Filter
     }
   }
   return areas;
+}
+
+// Geometric addition, the other way: a pixel the box, ring or temporal rule removed is given back
+// when the evidence knows it as static (`known`) and neither a person's mask nor dynamic evidence
+// covers it.
+void keepKnownStatic(cv::Mat known, const std::vector<FilterBox>& boxes, const cv::Mat& dynamic, cv::Mat& state) {
+  if (known.empty()) return;
+  known.setTo(0, dynamic);
+  for (const FilterBox& b : boxes) {
+    if (!b.mask.empty()) known(b.mask_area).setTo(0, b.mask);
+  }
+  state.setTo(kKept, known);
 }
 
 // Algorithm 1 lines 10-11: in the ring between each box and its lambda-enlarged box (outside every
@@ -843,6 +871,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   const cv::Rect guarded_area = o.temporal ? guardTemporally(depth, T_cur_prev) : cv::Rect();
   cv::Mat dynamic = geometricEvidence(depth);
   if (!dynamic.empty()) confirmCandidates(depth, detections, &dynamic);
+  if (!dynamic.empty() && o.keep_static) keepKnownStatic(evidence_->staticMask(depth), boxes, dynamic, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) carryToNextFrame(depth, areas, guarded_area);

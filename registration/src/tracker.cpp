@@ -228,8 +228,13 @@ bool Tracker::relocalise(OdometryFrame* frame, TrackResult* result) {
       attempt.valid = attempt.dense.valid;
       attempt.T_ref_cur = attempt.dense.T_ref_cur;
     }
-    // Relocalisation has no motion prior to confirm it: it needs more overlap than tracking.
-    if (attempt.dense.inlier_ratio < options_.min_relocalisation_inlier_ratio) attempt.valid = false;
+    // Relocalisation has no motion prior to confirm it: it needs more overlap than tracking, or,
+    // where people left the views little overlap, the keyframe aligned back onto the frame
+    // agreeing with it (the back end's local-edge rule).
+    if (attempt.valid && attempt.dense.inlier_ratio < options_.min_relocalisation_inlier_ratio) {
+      odometry_.makeReference(frame);
+      attempt.valid = backend_->agreesBothWays(keyframe, *frame, attempt.dense).has_value();
+    }
     if (!attempt.valid) {
       if (id == ids.front()) result->odometry = attempt;
       continue;

@@ -410,6 +410,39 @@ TEST(DualBBoxFilter, GeometricEvidenceConfirmsACandidateAndCarriesIt) {
   EXPECT_EQ(removedOnBody(fresh), 20);
 }
 
+// keep_static: where the prediction knows the depth as static, what only the ring (or box, or
+// temporal) rule removed is given back; a person's mask is never given back.
+TEST(DualBBoxFilter, KeepStaticGivesBackWhatOnlyTheRulesRemoved) {
+  const Scene scene;
+  PersonDetection p = person(14, 9, 26, 26);
+  p.mask = cv::Mat::zeros(30, 40, CV_8U);
+  p.mask(cv::Rect(15, 10, 10, 15)).setTo(255);  // the whole person
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(scene.depth.clone());  // every measured depth was seen before
+  evidence->setStaticMargin(0.05);
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.mask_dilation = 0;
+  o.geometric = true;
+  DualBBoxFilter rules_only(o);
+  rules_only.setDynamicEvidence(evidence);
+  const auto before = rules_only.filter(scene.depth, detections({p}));
+  EXPECT_EQ(before.static_depth.at<float>(27, 20), 0.f);  // ring outlier removed (line 11)
+  EXPECT_EQ(before.static_depth.at<float>(12, 13), 0.f);
+  o.keep_static = true;
+  DualBBoxFilter keeping(o);
+  keeping.setDynamicEvidence(evidence);
+  const auto after = keeping.filter(scene.depth, detections({p}));
+  EXPECT_EQ(after.static_depth.at<float>(27, 20), 2.5f);  // known static: kept
+  EXPECT_EQ(after.static_depth.at<float>(12, 13), 1.6f);
+  EXPECT_EQ(cv::countNonZero(after.static_depth(cv::Rect(15, 10, 10, 15))), 0);  // the masked person
+  // Where the prediction has no depth, the rules stand.
+  cv::Mat partial = scene.depth.clone();
+  partial.at<float>(27, 20) = 0.f;
+  evidence->setPrediction(partial);
+  EXPECT_EQ(keeping.filter(scene.depth, detections({p})).static_depth.at<float>(27, 20), 0.f);
+}
+
 TEST(WarpDepth, IdentityAndTranslation) {
   cv::Mat depth = cv::Mat::zeros(30, 40, CV_32F);
   depth.at<float>(15, 20) = 2.f;

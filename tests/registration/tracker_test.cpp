@@ -112,25 +112,37 @@ TEST(Tracker, ASliverOfDepthGivesNoPoseAndNoKeyframe) {
   EXPECT_TRUE(clear.keyframe_created);
 }
 
-// Without a motion prior a relocalisation is trusted only with more overlap than tracking
-// needs: a view turned 0.6 rad from the only keyframe (inlier ratio about 0.45) stays lost; one
-// turned 0.3 rad (about 0.7) is relocalised.
-TEST(Tracker, RelocalisationNeedsMoreOverlapThanTracking) {
-  Tracker tracker(unbridgedOptions());
-  ASSERT_EQ(tracker.track(test::renderRoom(pathPose(0), smallCamera(), 0)).status, TrackStatus::kOk);
-  Frame noise = test::renderRoom(pathPose(1), smallCamera(), 1);
-  cv::randu(noise.depth, cv::Scalar(0.3), cv::Scalar(5.0));
-  cv::randu(noise.rgb, cv::Scalar::all(0), cv::Scalar::all(255));
-  ASSERT_EQ(tracker.track(noise).status, TrackStatus::kLost);
-
+// Without a motion prior a relocalisation is trusted only with more overlap than tracking needs,
+// or when the keyframe aligned back onto the frame agrees (the back end's two-way rule). A view
+// turned 0.6 rad from the only keyframe (inlier ratio about 0.45) stays lost by overlap alone and
+// is relocalised, to the right pose, by the two-way rule; one turned 0.3 rad (about 0.7) is
+// relocalised by overlap. A frame of noise is never relocalised.
+TEST(Tracker, RelocalisationNeedsMoreOverlapThanTrackingOrTwoWayAgreement) {
   const Eigen::Isometry3d far = pathPose(0) * test::cameraPose(0, 0, 0, 0, 0.6, 0);
-  const TrackResult weak = tracker.track(test::renderRoom(far, smallCamera(), 2));
+  const Eigen::Isometry3d near = pathPose(0) * test::cameraPose(0, 0, 0, 0, 0.3, 0);
+  // Tracks the first view, loses a frame of noise, then tries `view`; returns that result.
+  auto relocalise = [](const Tracker::Options& options, const Eigen::Isometry3d& view) {
+    Tracker tracker(options);
+    EXPECT_EQ(tracker.track(test::renderRoom(pathPose(0), smallCamera(), 0)).status, TrackStatus::kOk);
+    Frame noise = test::renderRoom(pathPose(1), smallCamera(), 1);
+    cv::randu(noise.depth, cv::Scalar(0.3), cv::Scalar(5.0));
+    cv::randu(noise.rgb, cv::Scalar::all(0), cv::Scalar::all(255));
+    EXPECT_EQ(tracker.track(noise).status, TrackStatus::kLost);
+    return tracker.track(test::renderRoom(view, smallCamera(), 2));
+  };
+  Tracker::Options overlap_only = unbridgedOptions();
+  overlap_only.backend.min_local_agreement = 1.01;  // no two-way rule
+  const TrackResult weak = relocalise(overlap_only, far);
   EXPECT_EQ(weak.status, TrackStatus::kLost);
   EXPECT_GT(weak.odometry.dense.inlier_ratio, 0.0);  // it was tried and aligned, with little overlap
-  EXPECT_LT(weak.odometry.dense.inlier_ratio, tracker.options().min_relocalisation_inlier_ratio);
+  EXPECT_LT(weak.odometry.dense.inlier_ratio, overlap_only.min_relocalisation_inlier_ratio);
 
-  const Eigen::Isometry3d near = pathPose(0) * test::cameraPose(0, 0, 0, 0, 0.3, 0);
-  const TrackResult back = tracker.track(test::renderRoom(near, smallCamera(), 3));
+  const TrackResult two_way = relocalise(unbridgedOptions(), far);
+  ASSERT_EQ(two_way.status, TrackStatus::kRelocalised);
+  EXPECT_LT(two_way.odometry.dense.inlier_ratio, overlap_only.min_relocalisation_inlier_ratio);
+  EXPECT_LT((two_way.T_w_c.translation() - (pathPose(0).inverse() * far).translation()).norm(), 0.005);
+
+  const TrackResult back = relocalise(overlap_only, near);
   ASSERT_EQ(back.status, TrackStatus::kRelocalised);
   const Eigen::Isometry3d expected = pathPose(0).inverse() * near;
   EXPECT_LT((back.T_w_c.translation() - expected.translation()).norm(), 0.005);
@@ -169,12 +181,13 @@ TEST(Tracker, BridgesAShortGapWithTheMotionPrior) {
 
 // The divergence guard: an odometry pose that jumps farther than max_speed allows since the last
 // measured frame is rejected, and the frame is bridged instead of taking it. (Only relocalisation,
-// a match without any prior that needs min_relocalisation_inlier_ratio, may place a frame that
-// far; it is switched off here.)
+// a match without any prior verified by overlap or two-way agreement, may place a frame that far;
+// it is switched off here.)
 TEST(Tracker, RejectsAnImpossibleJump) {
   Tracker::Options options = syncOptions();
   options.max_speed = 0.3;  // m/s: 1 cm per 1/30 s frame, plus the 4 cm tolerance
-  options.min_relocalisation_inlier_ratio = 1.01;
+  options.min_relocalisation_inlier_ratio = 1.01;  // relocalisation off: by overlap ...
+  options.backend.min_local_agreement = 1.01;      // ... and by two-way agreement
   Tracker tracker(options);
   const CameraIntrinsics k = smallCamera();
   for (int i = 0; i < 3; ++i) {

@@ -313,6 +313,7 @@ class PipelineRun {
         mapper_(options.mapper),
         humans_(options.humans),
         track_humans_(options.track_humans && detector_ != nullptr) {
+    free_space_->setStaticMargin(options.static_margin);
     filter_.setDynamicEvidence(free_space_);
     if (options.build_map) mapping_ = std::make_unique<MappingThread>(&mapper_, &tracker_.keyframes(), stats);
   }

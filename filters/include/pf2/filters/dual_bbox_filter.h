@@ -82,6 +82,10 @@ class DynamicEvidence {
   // CV_8U image of depth's size, 255 where the pixel is dynamic, 0 where static or unknown.
   // Called once per filtered frame; NOT required to be thread safe.
   virtual cv::Mat dynamicMask(const cv::Mat& depth) = 0;
+  // CV_8U image of depth's size, 255 where the pixel is known static (the static scene was seen
+  // there at this depth before), 0 where dynamic or unknown; empty when the source cannot tell.
+  // Called once per filtered frame, after dynamicMask(); NOT required to be thread safe.
+  virtual cv::Mat staticMask(const cv::Mat& depth) { return cv::Mat(); }
 };
 
 // The simplest evidence: a predicted static depth image for the current view (rendered from a map,
@@ -97,8 +101,12 @@ class PredictedDepthEvidence : public DynamicEvidence {
   // CV_32F metres, 0 = no prediction; must have the size of the depth images filtered next.
   void setPrediction(const cv::Mat& predicted_depth) { prediction_ = predicted_depth; }
   cv::Mat dynamicMask(const cv::Mat& depth) override;
+  // Measured within static_margin (metres, plus 1 % of the depth) of a known prediction.
+  cv::Mat staticMask(const cv::Mat& depth) override;
+  void setStaticMargin(double metres) { static_margin_ = metres; }
 
  private:
+  double static_margin_ = 0.0;  // 0 = no static evidence
   double margin_;
   int opening_radius_;
   cv::Mat prediction_;
@@ -152,6 +160,10 @@ class DualBBoxFilter {
     int candidate_memory = 30;       // frames a candidate lying mostly (half its pixels) on last
                                      // frame's confirmed pixels or detected people stays confirmed
                                      // without fresh evidence, in [0, 254]
+    bool keep_static = false;        // with geometric: depth the evidence knows as static is kept
+                                     // unless a person's mask or dynamic evidence covers it (the
+                                     // box, ring and temporal rules take static floor and walls
+                                     // next to people)
   };
 
   struct Person {

@@ -88,6 +88,15 @@ class PoseGraphBackend {
   // Blocks until the queue is empty and its last keyframe processed.
   void waitIdle();
 
+  // The local-edge rule, for any caller: T_ref_cur of `forward` (current aligned onto reference)
+  // when it is consistent and the reference aligned back onto `current` agrees with it
+  // (consistency, not overlap: views that people cut up overlap little). Both frames must have
+  // been made references. Thread safe.
+  std::optional<Eigen::Isometry3d> agreesBothWays(const OdometryFrame& reference, const OdometryFrame& current,
+                                                  const DenseAlignment& forward) const {
+    return verified(reference, current, forward, true);
+  }
+
   std::vector<LoopClosure> loopClosures() const;
   int optimisations() const;
   int localEdges() const;  // verified local-window edges added so far

@@ -18,7 +18,9 @@
 //                motion prior's pose (constant velocity, damped), never fused into a map;
 //   kRelocalised the odometry was not valid and the frame was matched without a prior against
 //                the keyframes (the last one + appearance candidates) with at least
-//                min_relocalisation_inlier_ratio. Relocalised frames can occur without any lost
+//                min_relocalisation_inlier_ratio, or with less overlap but confirmed by the
+//                keyframe aligned back onto it (PoseGraphBackend::agreesBothWays). Relocalised
+//                frames can occur without any lost
 //                frame;
 //   kLost        no pose: before the first usable frame, or after max_bridged_frames bridged
 //                frames in a row until relocalisation succeeds. Never given an invented pose.
@@ -27,8 +29,8 @@
 // pose at most max_speed (max_angular_speed) times the time since then, plus a tolerance; and
 // from the constant-velocity prediction at most what max_acceleration allows over that time, plus
 // a tolerance for the prediction's own error. A rejected pose never becomes the frame's pose; the
-// frame is bridged instead. Only relocalisation (a match without any prior, with at least
-// min_relocalisation_inlier_ratio) can place a frame beyond that reach.
+// frame is bridged instead. Only relocalisation (a match without any prior, verified as above)
+// can place a frame beyond that reach.
 //
 // The current pose is kept relative to the current keyframe (T_w_c = T_w_k * T_k_c), so pose
 // graph corrections reach tracking at once. Thread safety: track() and finish() must be called

@@ -29,6 +29,8 @@ struct SlamOptions {
   KeyframeDepthPrediction::Options prediction;
   double geometric_margin = 0.15;  // metres, > 0
   int geometric_opening = 4;       // pixels: thinner dynamic regions are dropped (>= 0)
+  double static_margin = 0.06;     // metres (plus 1 % of the depth): depth this close to the
+                                   // prediction is known static (filter.keep_static)
   Tracker::Options tracker;
   // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
   // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
