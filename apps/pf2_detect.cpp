@@ -101,15 +101,6 @@ int misalignmentFromReadme(const std::string& gt_dir) {
 }
 
 // Moves a mask dx pixels right (left for negative dx), zero where nothing moved in.
-cv::Mat shiftedRight(const cv::Mat& mask, int dx) {
-  if (dx == 0) return mask;
-  cv::Mat out = cv::Mat::zeros(mask.size(), mask.type());
-  const int width = mask.cols - std::abs(dx);
-  if (width <= 0) return out;
-  mask(cv::Rect(std::max(0, -dx), 0, width, mask.rows)).copyTo(out(cv::Rect(std::max(0, dx), 0, width, mask.rows)));
-  return out;
-}
-
 bool exists(const std::string& path) {
   struct stat s;
   return ::stat(path.c_str(), &s) == 0;
@@ -317,7 +308,7 @@ void writeAndScoreFrame(const DetectOptions& options, const DetectSetup& setup, 
     if (gt.size() != frame.depth.size() || gt.channels() != 1) {
       throw pf2::fileError(mask_path, "ground-truth mask is not single-channel of the depth's size");
     }
-    *counts += pf2::countMaskAgreement(frame.depth, static_depth, shiftedRight(gt, setup.misalign));
+    *counts += pf2::countMaskAgreement(frame.depth, static_depth, pf2::shiftMaskRight(gt, setup.misalign));
   }
 }
 

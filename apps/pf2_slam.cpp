@@ -42,6 +42,7 @@ const char* kUsage =
     "  --no-map             track only; no TSDF/OctoMap\n"
     "  --pcd                also write map.pcd (the mesh vertices as coloured points)\n"
     "  --obj                also write map.obj (the mesh as Wavefront OBJ with vertex colours)\n"
+    "  --masks              also write masks/<timestamp>.png per frame (255 = depth removed)\n"
     "  --calibration FILE   camera calibration file (default: camera.txt in the folder or TUM preset)\n"
     "  --associations FILE  rgb/depth associations instead of matching rgb.txt and depth.txt\n"
     "  --depth-scale S      depth PNG units per metre (default 5000)\n"
@@ -95,6 +96,7 @@ int run(int argc, char** argv) {
   if (cli.flag("--pcd")) options.map_files.points_pcd = true;
   if (cli.flag("--obj")) options.map_files.mesh_obj = true;
   if (cli.flag("--quiet")) options.progress = false;
+  if (cli.flag("--masks")) options.write_masks = true;
   std::optional<std::string> eval_path = cli.value("--eval");
   const std::optional<std::string> gt_format_name = cli.value("--gt-format");
   std::optional<pf2::TrajectoryFormat> gt_format;

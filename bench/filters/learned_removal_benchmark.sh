@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Person removal with the project's own detector (learned), per hard case: pf2_synth sequences with
 # three people (a seated person and people cut by the border in the static view, every camera
-# motion, depth misaligned 3 px with motion blur, people close to the camera), the filter as
-# pf2_slam runs it (backend masks, box rule within 20 px of a mask, temporal guard) without and
-# with the geometric addition (depth in front of the farthest static depth seen so far, pf2_detect's
-# stand-in for the keyframe prediction pf2_slam uses; it moves its model with groundtruth.txt).
+# motion, depth misaligned 3 px with motion blur, people close to the camera). Rows: pf2_slam
+# itself (its --masks, scored by pf2_removal_score) with and without the geometric addition (the
+# keyframes' prediction, candidates, keep_static); and pf2_detect's filter runs: the paper's
+# filter, pf2_slam's filter settings without and with pf2_detect's stand-in for the prediction
+# (the farthest static depth seen so far, moved with groundtruth.txt).
 # Prints recall (person depth removed), precision and retention (static depth kept).
 #
 # Usage: bench/filters/learned_removal_benchmark.sh [BUILD_DIR] [WORK_DIR] [FRAMES]
@@ -31,6 +32,18 @@ row() {  # row CASE SEQUENCE LABEL OPTIONS...
     "$("$build/apps/pf2_detect" "$sequence" "$work/removal_${case}" --detector learned --json "$@" | tail -n 1)"
 }
 
+# slam_row CASE SEQUENCE LABEL MISALIGN PF2_SLAM_OPTIONS...: pf2_slam with --masks, scored.
+slam_row() {
+  local case="$1" sequence="$2" label="$3" misalign="$4"
+  shift 4
+  local out="$work/slam_${case}_$(echo "$label" | tr -c 'a-z0-9' '_')"
+  "$build/apps/pf2_slam" "$sequence" -o "$out" --detector learned --no-map --quiet --masks "$@" >/dev/null
+  local score filter_ms
+  score="$("$build/bench/filters/pf2_removal_score" "$sequence" "$out/masks" --misalign "$misalign" --json)"
+  filter_ms="$(grep -o '"filter":{[^}]*}' "$out/stats.json" | grep -o '"median_ms":[0-9.e-]*' | cut -d: -f2)"
+  removal_row "$case" "$label" "${score%\}},\"filter_median_ms\":$filter_ms}"
+}
+
 echo "| case | filter | person depth removed (recall %) | precision % | static depth kept (retention %) | filter ms |"
 echo "| --- | --- | --- | --- | --- | --- |"
 cases=("static:--camera static" "xyz:--camera xyz" "halfsphere:--camera halfsphere" "rpy:--camera rpy"
@@ -41,7 +54,11 @@ for spec in "${cases[@]}"; do
   name="${spec%%:*}"
   read -r -a args <<< "${spec#*:}"
   sequence="$(synth "$name" "${args[@]}")"
+  misalign=0
+  [[ "$name" == *misalign3* ]] && misalign=3
+  slam_row "$name" "$sequence" "pf2_slam, no geometric" "$misalign" --set filter.geometric=false
+  slam_row "$name" "$sequence" "pf2_slam" "$misalign"
   row "$name" "$sequence" "paper's filter" 
-  row "$name" "$sequence" "pf2_slam's, no geometric" "${slam_filter[@]}"
-  row "$name" "$sequence" "pf2_slam's + geometric" "${slam_filter[@]}" --geometric
+  row "$name" "$sequence" "pf2_detect, pf2_slam's settings" "${slam_filter[@]}"
+  row "$name" "$sequence" "pf2_detect, + stand-in geometric" "${slam_filter[@]}" --geometric
 done

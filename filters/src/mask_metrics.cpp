@@ -1,5 +1,6 @@
 #include "pf2/filters/mask_metrics.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "pf2/core/error.h"
@@ -43,6 +44,15 @@ MaskCounts countMaskAgreement(const cv::Mat& input_depth, const cv::Mat& static_
     }
   }
   return counts;
+}
+
+cv::Mat shiftMaskRight(const cv::Mat& mask, int dx) {
+  if (dx == 0) return mask;
+  cv::Mat out = cv::Mat::zeros(mask.size(), mask.type());
+  const int width = mask.cols - std::abs(dx);
+  if (width <= 0) return out;
+  mask(cv::Rect(std::max(0, -dx), 0, width, mask.rows)).copyTo(out(cv::Rect(std::max(0, dx), 0, width, mask.rows)));
+  return out;
 }
 
 }  // namespace pf2

@@ -52,8 +52,11 @@ for f in map.ply map.bt map.ot; do [ -s "$work/mapped/$f" ] || fail "mapped run:
 # --set after --config wins, and run.max_frames stops early.
 printf 'run.max_frames 10\n' > "$work/ten.cfg"
 "$slam" "$out/synthetic" -o "$work/run8" --detector gt --no-map --quiet --config "$work/ten.cfg" \
-  --set run.max_frames=8 > /dev/null 2>&1 || fail "run8 exit code"
+  --set run.max_frames=8 --masks > /dev/null 2>&1 || fail "run8 exit code"
 [ "$(grep -vc '^#' "$work/run8/trajectory.txt")" -eq 8 ] || fail "--set run.max_frames=8 did not give 8 poses"
+# --masks: one removed-depth mask per frame, named by timestamp; no partial folder left.
+[ "$(ls "$work/run8/masks" | grep -c '\.png$')" -eq 8 ] || fail "--masks did not write 8 masks"
+[ ! -e "$work/run8/masks.partial" ] || fail "--masks left masks.partial"
 
 [ "$failures" -eq 0 ] && echo "pf2_slam_cli: all checks passed"
 exit $((failures > 0))

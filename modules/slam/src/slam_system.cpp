@@ -7,12 +7,15 @@
 #include <cstdio>
 #include <deque>
 #include <exception>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
 #include <thread>
+
+#include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
@@ -318,6 +321,9 @@ class PipelineRun {
     if (options.build_map) mapping_ = std::make_unique<MappingThread>(&mapper_, &tracker_.keyframes(), stats);
   }
 
+  // Writes each frame's removed mask into `dir` (which must exist) from now on.
+  void writeMasksTo(const std::string& dir) { masks_dir_ = dir; }
+
   // The front end on one frame: people removed, camera tracked, people placed, map fed.
   void process(const Frame& frame, SlamRunSummary* summary) {
     ScopedStageTimer frame_timer(stats_, "frame");
@@ -379,6 +385,7 @@ class PipelineRun {
   }
 
   size_t keyframeCount() const { return tracker_.keyframes().size(); }
+  bool removesPeople() const { return detector_ != nullptr; }
 
  private:
   static KeyframeDepthPrediction::Options predictionOptions(const SlamOptions& options) {
@@ -408,6 +415,15 @@ class PipelineRun {
     }
     *filtered = filter_.filter(frame.depth, *detections, T_cur_prev);
     static_frame->depth = filtered->static_depth;
+    if (!masks_dir_.empty()) writeMask(frame.timestamp, filtered->removed);
+  }
+
+  // The filter's removed pixels of one frame into the masks folder being written.
+  void writeMask(double timestamp, const cv::Mat& removed) const {
+    char name[64];
+    std::snprintf(name, sizeof(name), "/%.6f.png", timestamp);
+    const std::string path = masks_dir_ + name;
+    if (!cv::imwrite(path, removed)) throw fileError(path, "cannot write the mask");
   }
 
   // Eq. 2-3 after tracking, so the tracker waits for nothing. Associated with this frame's pose as
@@ -457,6 +473,7 @@ class PipelineRun {
   DualBBoxFilter filter_;
   KeyframeDepthPrediction prediction_;
   std::shared_ptr<PredictedDepthEvidence> free_space_;
+  std::string masks_dir_;  // empty: no masks written
   Tracker tracker_;
   Mapper mapper_;
   HumanTracker humans_;
@@ -481,6 +498,13 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   if (options_.max_frames > 0) frame_count = std::min<size_t>(frame_count, options_.max_frames);
   if (frame_count == 0) throw Error("the sequence has no frames: " + source.description());
 
+  // Masks are written as frames pass, into a folder renamed to masks/ once the run succeeded.
+  const std::string masks_partial = out_dir + "/masks.partial";
+  if (options_.write_masks && pipeline.removesPeople()) {
+    std::filesystem::remove_all(masks_partial);
+    makeDirectory(masks_partial);
+    pipeline.writeMasksTo(masks_partial);
+  }
   FrameLoader loader(source, frame_count, options_.prefetch_frames, &stats_);
   const auto start = std::chrono::steady_clock::now();
   try {
@@ -499,10 +523,15 @@ SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& seq
   } catch (...) {
     loader.stop();
     pipeline.stopThreads();
+    std::filesystem::remove_all(masks_partial);
     throw;
   }
   summary.fps = summary.seconds > 0 ? summary.frames / summary.seconds : 0.0;
   pipeline.write(out_dir, summary, &trajectory_);
+  if (std::filesystem::exists(masks_partial)) {
+    std::filesystem::remove_all(out_dir + "/masks");
+    std::filesystem::rename(masks_partial, out_dir + "/masks");
+  }
   return summary;
 }
 

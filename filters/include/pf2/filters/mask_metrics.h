@@ -34,4 +34,8 @@ struct MaskCounts {
 MaskCounts countMaskAgreement(const cv::Mat& input_depth, const cv::Mat& static_depth,
                               const cv::Mat& person_mask);
 
+// The mask moved dx pixels right (left for dx < 0), zeros shifted in: a ground-truth person mask
+// brought onto depth that lies dx pixels right of it (pf2_synth --misalign). Thread safe.
+cv::Mat shiftMaskRight(const cv::Mat& mask, int dx);
+
 }  // namespace pf2

@@ -52,6 +52,8 @@ struct SlamOptions {
   int fuse_every = 10;               // also fuse every n-th tracked frame between keyframes (0 = keyframes only):
                                      // surface seen only briefly (behind people who walk by) gets into the map
   Mapper::ExportOptions map_files;   // which map files are written at the end
+  bool write_masks = false;          // masks/<timestamp>.png per frame: 8-bit, 255 = depth the
+                                     // filter removed (people and what it took with them)
   int max_frames = 0;                // frames processed from the start (0 = all)
   int prefetch_frames = 4;           // frames decoded ahead in a loader thread
   bool progress = true;              // progress line with fps on standard error
