@@ -1,5 +1,8 @@
 #include "pf2/slam/slam_system.h"
 
+#include <sys/stat.h>
+
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -204,6 +207,42 @@ class EmptySource : public FrameSource {
   Frame frame(size_t) const override { throw Error("no frames"); }
   std::string description() const override { return "empty"; }
 };
+
+// The library without files: frames fed one at a time (as from a live camera), each result
+// returned, the final result (trajectory, map) in memory; the writer saves it only when asked.
+TEST(SlamSystem, ProcessesFramesOneAtATimeAndReturnsTheResult) {
+  const SyntheticSequence sequence(smallSequence(0, 30));
+  SlamOptions options;
+  options.progress = false;
+  options.tracker.asynchronous_backend = false;
+  SlamSystem system(options, nullptr);
+  for (size_t i = 0; i < sequence.size(); ++i) {
+    const Frame frame = sequence.frame(i);
+    const FrameResult r = system.process(frame);
+    EXPECT_EQ(r.timestamp, frame.timestamp);
+    EXPECT_TRUE(r.has_pose) << i;
+    EXPECT_EQ(cv::countNonZero(r.static_depth != frame.depth), 0);  // no detector: nothing removed
+    EXPECT_TRUE(r.removed.empty());
+    EXPECT_TRUE(r.people.empty());
+  }
+  const SlamResult result = system.finish();
+  EXPECT_EQ(result.summary.frames, 30);
+  EXPECT_EQ(result.summary.detector, "none");
+  ASSERT_EQ(result.trajectory.size(), 30u);
+  EXPECT_LT(computeAte(groundTruth(sequence), result.trajectory).translation.rmse, 0.01);
+  ASSERT_TRUE(result.map);
+  EXPECT_GT(result.map->extractMesh().vertices.size(), 1000u);
+  EXPECT_EQ(result.frame_status.size(), 30u);
+  EXPECT_THROW(system.process(sequence.frame(0)), Error);  // finished
+
+  const std::string out = testing::TempDir() + "pf2_slam_written";
+  std::remove((out + "/trajectory.txt").c_str());
+  ::mkdir(out.c_str(), 0755);
+  writeSlamResult(out, result, &system.stats());
+  EXPECT_EQ(readTrajectory(out + "/trajectory.txt").size(), 30u);
+  EXPECT_NE(readAll(out + "/stats.json").find("\"map_export\""), std::string::npos);
+  EXPECT_GT(readAll(out + "/map.ply").size(), 1000u);
+}
 
 TEST(SlamSystem, EmptySourceAndBadOutputAreErrors) {
   SlamOptions options;

@@ -12,16 +12,13 @@
 #include <map>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <thread>
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
 #include "pf2/humans/human_position.h"
 #include "pf2/humans/human_tracker.h"
-#include "pf2/io/trajectory_io.h"
 
 namespace pf2 {
 
@@ -141,9 +138,9 @@ std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtere
   return centres_c;
 }
 
-// humans.txt from the final poses: p_w = T_w_c p_c (eq. 3) with T_w_c = T_w_k (corrected) T_k_c.
-void writeHumans(const std::string& path, const std::vector<FrameRecord>& records,
-                 const std::map<int, Eigen::Isometry3d>& keyframe_poses) {
+// The people's tracks from the final poses: p_w = T_w_c p_c (eq. 3) with T_w_c = T_w_k (corrected) T_k_c.
+std::vector<HumanTrack> humanTracks(const std::vector<FrameRecord>& records,
+                                    const std::map<int, Eigen::Isometry3d>& keyframe_poses) {
   std::map<int, HumanTrack> tracks;
   for (const FrameRecord& record : records) {
     if (!record.has_pose) continue;
@@ -155,60 +152,7 @@ void writeHumans(const std::string& path, const std::vector<FrameRecord>& record
   }
   std::vector<HumanTrack> list;
   for (auto& [id, track] : tracks) list.push_back(std::move(track));
-  writeHumanTracks(path, list);
-}
-
-std::unique_ptr<HumanDetector> makeDetector(const SlamOptions& options,
-                                            const std::string& sequence_folder,
-                                            std::string* chosen) {
-  DetectorOptions detection = options.detection;
-  const std::string gt_folder = sequence_folder.empty() ? "" : sequence_folder + "/gt";
-  if (detection.gt.gt_folder.empty()) detection.gt.gt_folder = gt_folder;
-  std::string name = options.detector;
-  if (name == "none") {
-    *chosen = "none";
-    return nullptr;
-  }
-  if (name == "auto") {
-    // Users have no ground truth: the project's own detector, never the gt oracle by default.
-    try {
-      *chosen = "learned";
-      return createHumanDetector("learned", detection);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "pf2_slam: warning: learned detector unavailable (%s); using hog "
-                   "(scripts/fetch_models.sh installs its models)\n", e.what());
-      name = "hog";
-    }
-  }
-  *chosen = name;
-  return createHumanDetector(name, detection);
-}
-
-// Each frame's timestamp and tracking status ("tracked", "bridged", "relocalised", "lost").
-std::string frameStatusJson(const std::vector<FrameRecord>& records) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "[";
-  for (size_t i = 0; i < records.size(); ++i) {
-    out << (i ? "," : "") << "{\"timestamp\":" << records[i].timestamp << ",\"status\":\""
-        << toString(records[i].status) << "\"}";
-  }
-  out << "]";
-  return out.str();
-}
-
-std::string summaryJson(const SlamRunSummary& s, const StageStats& stages,
-                        const StageStats& tracker_stages, const std::vector<FrameRecord>& records) {
-  std::ostringstream out;
-  out.precision(6);
-  out << "{\"frames\":" << s.frames << ",\"tracked\":" << s.tracked << ",\"lost\":" << s.lost
-      << ",\"relocalised\":" << s.relocalised << ",\"bridged\":" << s.bridged
-      << ",\"keyframes\":" << s.keyframes << ",\"loop_closures\":" << s.loop_closures
-      << ",\"local_edges\":" << s.local_edges
-      << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
-      << "\",\"stages\":" << stages.toJson() << ",\"tracker_stages\":" << tracker_stages.toJson()
-      << ",\"frame_status\":" << frameStatusJson(records) << "}\n";
-  return out.str();
+  return list;
 }
 
 // Decodes frames ahead of the front end in its own thread (decoding overlaps the front end's work).
@@ -302,10 +246,12 @@ class MappingThread {
   std::thread thread_;
 };
 
-// One run's stages and state: the front end's steps for each frame, and the outputs at the end.
-class PipelineRun {
+}  // namespace
+
+// One run's stages and state: the front end's steps for each frame, and the result at the end.
+class SlamSystem::Pipeline {
  public:
-  PipelineRun(const SlamOptions& options, std::unique_ptr<HumanDetector> detector, StageStats* stats)
+  Pipeline(const SlamOptions& options, std::unique_ptr<HumanDetector> detector, StageStats* stats)
       : options_(options),
         stats_(stats),
         detector_(std::move(detector)),
@@ -313,79 +259,91 @@ class PipelineRun {
         prediction_(predictionOptions(options)),
         free_space_(std::make_shared<PredictedDepthEvidence>(options.geometric_margin, options.geometric_opening)),
         tracker_(options.tracker),
-        mapper_(options.mapper),
+        mapper_(std::make_shared<Mapper>(options.mapper)),
         humans_(options.humans),
         track_humans_(options.track_humans && detector_ != nullptr) {
     free_space_->setStaticMargin(options.static_margin);
     filter_.setDynamicEvidence(free_space_);
-    if (options.build_map) mapping_ = std::make_unique<MappingThread>(&mapper_, &tracker_.keyframes(), stats);
+    if (options.build_map) mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats);
+    summary_.detector = detector_ ? detector_->name() : "none";
   }
+  ~Pipeline() { stopThreads(); }
 
   // Writes each frame's removed mask into `dir` (which must exist) from now on.
   void writeMasksTo(const std::string& dir) { masks_dir_ = dir; }
 
   // The front end on one frame: people removed, camera tracked, people placed, map fed.
-  void process(const Frame& frame, SlamRunSummary* summary) {
-    ScopedStageTimer frame_timer(stats_, "frame");
-    Detections detections;
-    DualBBoxFilter::Result filtered;
-    Frame static_frame = frame;
-    if (detector_) removePeople(frame, &detections, &filtered, &static_frame);
-    TrackResult result;
+  FrameResult process(const Frame& frame) {
+    if (finished_) throw Error("SlamSystem::process: called after finish()");
+    const auto begin = std::chrono::steady_clock::now();
+    if (summary_.frames == 0) first_frame_ = begin;
+    FrameResult out;
     {
-      ScopedStageTimer timer(stats_, "track");
-      result = tracker_.track(static_frame, filtered.removed);
+      ScopedStageTimer frame_timer(stats_, "frame");
+      Detections detections;
+      DualBBoxFilter::Result filtered;
+      Frame static_frame = frame;
+      if (detector_) removePeople(frame, &detections, &filtered, &static_frame);
+      TrackResult result;
+      {
+        ScopedStageTimer timer(stats_, "track");
+        result = tracker_.track(static_frame, filtered.removed);
+      }
+      FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
+                         Eigen::Isometry3d::Identity(), {}};
+      if (track_humans_) placePeople(frame, detections, filtered, result, &record);
+      count(result, &record);
+      // A bridged pose is the motion prior's guess: good enough to place people for a moment,
+      // not to fuse depth into the map.
+      if (mapping_ && record.has_pose && result.status != TrackStatus::kBridged)
+        feedMap(frame, static_frame.depth, result, summary_.frames);
+      out = frameResult(frame, static_frame.depth, filtered.removed, result, record);
+      records_.push_back(std::move(record));
+      ++summary_.frames;
     }
-    FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
-                       Eigen::Isometry3d::Identity(), {}};
-    if (track_humans_) placePeople(frame, detections, filtered, result, &record);
-    count(result, &record, summary);
-    // A bridged pose is the motion prior's guess: good enough to place people for a moment,
-    // not to fuse depth into the map.
-    if (mapping_ && record.has_pose && result.status != TrackStatus::kBridged)
-      feedMap(frame, static_frame.depth, result, summary->frames);
-    records_.push_back(std::move(record));
-    ++summary->frames;
+    last_frame_end_ = std::chrono::steady_clock::now();
+    return out;
   }
 
-  // Waits for the back end and the map; then the summary's last figures.
-  void finish(SlamRunSummary* summary) {
+  // Waits for the back end and the map; the final poses, tracks and figures.
+  SlamResult finish() {
+    finished_ = true;
     tracker_.finish();
     if (mapping_) mapping_->finish();
-    summary->keyframes = static_cast<int>(tracker_.keyframes().size());
-    summary->loop_closures = static_cast<int>(tracker_.backend().loopClosures().size());
-    summary->local_edges = tracker_.backend().localEdges();
+    SlamResult result;
+    result.summary = summary_;
+    result.summary.keyframes = static_cast<int>(tracker_.keyframes().size());
+    result.summary.loop_closures = static_cast<int>(tracker_.backend().loopClosures().size());
+    result.summary.local_edges = tracker_.backend().localEdges();
+    result.summary.seconds = std::chrono::duration<double>(last_frame_end_ - first_frame_).count();
+    result.summary.fps = result.summary.seconds > 0 ? result.summary.frames / result.summary.seconds : 0.0;
+    // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
+    const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker_.keyframes().poses();
+    for (const FrameRecord& record : records_) {
+      result.frame_status.emplace_back(record.timestamp, record.status);
+      if (record.has_pose)
+        result.trajectory.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
+    }
+    result.has_humans = track_humans_;
+    if (track_humans_) result.humans = humanTracks(records_, keyframe_poses);
+    result.tracker_stages_json = tracker_.stats().toJson();
+    if (mapping_) {
+      mapping_->moveTo(keyframe_poses);
+      result.map = mapper_;
+      result.map_files = options_.map_files;
+      // Without an OctoMap (map.octomap false) there is no map.bt / map.ot to write.
+      result.map_files.octomap_bt = result.map_files.octomap_bt && options_.mapper.build_occupancy;
+      result.map_files.octomap_ot = result.map_files.octomap_ot && options_.mapper.build_occupancy;
+    }
+    return result;
   }
   void stopThreads() {
     if (mapping_) mapping_->stop();
   }
 
-  // trajectory.txt, humans.txt, the map files and stats.json, with the corrected poses.
-  void write(const std::string& out_dir, const SlamRunSummary& summary, Trajectory* trajectory) {
-    // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
-    trajectory->clear();
-    const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker_.keyframes().poses();
-    for (const FrameRecord& record : records_) {
-      if (!record.has_pose) continue;
-      trajectory->push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
-    }
-    writeTrajectory(out_dir + "/trajectory.txt", *trajectory);
-    if (track_humans_) writeHumans(out_dir + "/humans.txt", records_, keyframe_poses);
-    if (mapping_) {
-      ScopedStageTimer timer(stats_, "map_export");
-      mapping_->moveTo(keyframe_poses);
-      // Without an OctoMap (map.octomap false) there is no map.bt / map.ot to write.
-      Mapper::ExportOptions files = options_.map_files;
-      files.octomap_bt = files.octomap_bt && options_.mapper.build_occupancy;
-      files.octomap_ot = files.octomap_ot && options_.mapper.build_occupancy;
-      mapper_.exportMap(out_dir, files);
-    }
-    const std::string json = summaryJson(summary, *stats_, tracker_.stats(), records_);
-    writeFileAtomically(out_dir + "/stats.json", [&](std::ostream& out) { out << json; });
-  }
-
   size_t keyframeCount() const { return tracker_.keyframes().size(); }
   bool removesPeople() const { return detector_ != nullptr; }
+  const SlamRunSummary& summary() const { return summary_; }
 
  private:
   static KeyframeDepthPrediction::Options predictionOptions(const SlamOptions& options) {
@@ -442,8 +400,23 @@ class PipelineRun {
     for (size_t k = 0; k < ids.size(); ++k) record->people_c.emplace_back(ids[k], people_c[k]);
   }
 
+  FrameResult frameResult(const Frame& frame, const cv::Mat& static_depth, const cv::Mat& removed,
+                          const TrackResult& result, const FrameRecord& record) const {
+    FrameResult out;
+    out.timestamp = frame.timestamp;
+    out.status = result.status;
+    out.has_pose = record.has_pose;
+    if (record.has_pose) out.T_w_c = result.T_w_c;
+    out.static_depth = static_depth;
+    out.removed = removed;
+    for (const auto& [id, p_c] : record.people_c)
+      out.people.push_back({id, p_c, record.has_pose ? humanCentreInWorld(result.T_w_c, p_c) : p_c});
+    return out;
+  }
+
   // The summary's counts and the motion the next frame's guess repeats.
-  void count(const TrackResult& result, FrameRecord* record, SlamRunSummary* summary) {
+  void count(const TrackResult& result, FrameRecord* record) {
+    SlamRunSummary* summary = &summary_;
     if (record->has_pose) {
       record->T_k_c = result.T_k_c;
       T_w_prevprev_ = T_w_prev_;
@@ -475,64 +448,120 @@ class PipelineRun {
   std::shared_ptr<PredictedDepthEvidence> free_space_;
   std::string masks_dir_;  // empty: no masks written
   Tracker tracker_;
-  Mapper mapper_;
+  std::shared_ptr<Mapper> mapper_;
   HumanTracker humans_;
   const bool track_humans_;
+  SlamRunSummary summary_;
+  bool finished_ = false;
+  std::chrono::steady_clock::time_point first_frame_, last_frame_end_;
   std::unique_ptr<MappingThread> mapping_;  // declared after what it uses: stopped first
   std::vector<FrameRecord> records_;
   Eigen::Isometry3d T_w_prev_ = Eigen::Isometry3d::Identity(), T_w_prevprev_ = Eigen::Isometry3d::Identity();
   int poses_in_row_ = 0;
 };
 
-}  // namespace
+
+
+SlamSystem::SlamSystem(const SlamOptions& options, std::unique_ptr<HumanDetector> detector) : options_(options) {
+  validateOptions(options_);
+  pipeline_ = std::make_unique<Pipeline>(options_, std::move(detector), &stats_);
+}
 
 SlamSystem::SlamSystem(const SlamOptions& options) : options_(options) { validateOptions(options_); }
+
 SlamSystem::~SlamSystem() = default;
+
+SlamSystem::Pipeline& SlamSystem::pipeline() {
+  if (!pipeline_) {
+    std::string chosen;
+    pipeline_ = std::make_unique<Pipeline>(options_, createSlamDetector(options_, "", &chosen), &stats_);
+  }
+  return *pipeline_;
+}
+
+FrameResult SlamSystem::process(const Frame& frame) { return pipeline().process(frame); }
+
+SlamResult SlamSystem::finish() {
+  SlamResult result = pipeline().finish();
+  trajectory_ = result.trajectory;
+  return result;
+}
+
+void SlamSystem::writeMasksTo(const std::string& dir) { pipeline().writeMasksTo(dir); }
+
+std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, const std::string& sequence_folder,
+                                                  std::string* chosen) {
+  DetectorOptions detection = options.detection;
+  const std::string gt_folder = sequence_folder.empty() ? "" : sequence_folder + "/gt";
+  if (detection.gt.gt_folder.empty()) detection.gt.gt_folder = gt_folder;
+  std::string name = options.detector;
+  if (name == "none") {
+    *chosen = "none";
+    return nullptr;
+  }
+  if (name == "auto") {
+    // Users have no ground truth: the project's own detector, never the gt oracle by default.
+    try {
+      *chosen = "learned";
+      return createHumanDetector("learned", detection);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pf2_slam: warning: learned detector unavailable (%s); using hog "
+                   "(scripts/fetch_models.sh installs its models)\n", e.what());
+      name = "hog";
+    }
+  }
+  *chosen = name;
+  return createHumanDetector(name, detection);
+}
+
 
 SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& sequence_folder,
                                const std::string& out_dir) {
+  if (pipeline_) throw Error("SlamSystem::run: the system has already processed frames");
   makeDirectory(out_dir);
-  SlamRunSummary summary;
-  PipelineRun pipeline(options_, makeDetector(options_, sequence_folder, &summary.detector), &stats_);
   size_t frame_count = source.size();
   if (options_.max_frames > 0) frame_count = std::min<size_t>(frame_count, options_.max_frames);
   if (frame_count == 0) throw Error("the sequence has no frames: " + source.description());
+  std::string detector_name;
+  pipeline_ = std::make_unique<Pipeline>(options_, createSlamDetector(options_, sequence_folder, &detector_name),
+                                         &stats_);
 
   // Masks are written as frames pass, into a folder renamed to masks/ once the run succeeded.
   const std::string masks_partial = out_dir + "/masks.partial";
-  if (options_.write_masks && pipeline.removesPeople()) {
+  if (options_.write_masks && pipeline_->removesPeople()) {
     std::filesystem::remove_all(masks_partial);
     makeDirectory(masks_partial);
-    pipeline.writeMasksTo(masks_partial);
+    pipeline_->writeMasksTo(masks_partial);
   }
+  SlamResult result;
   FrameLoader loader(source, frame_count, options_.prefetch_frames, &stats_);
   const auto start = std::chrono::steady_clock::now();
   try {
     while (std::optional<Frame> frame = loader.next()) {
-      pipeline.process(*frame, &summary);
-      if (options_.progress && (summary.frames % 30 == 0 || summary.frames == (int)frame_count)) {
+      pipeline_->process(*frame);
+      const int frames = pipeline_->summary().frames;
+      if (options_.progress && (frames % 30 == 0 || frames == static_cast<int>(frame_count))) {
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::fprintf(stderr, "\rframe %d/%zu  %.1f fps  lost %d  keyframes %zu   ", summary.frames,
-                     frame_count, summary.frames / elapsed, summary.lost, pipeline.keyframeCount());
+        std::fprintf(stderr, "\rframe %d/%zu  %.1f fps  lost %d  keyframes %zu   ", frames, frame_count,
+                     frames / elapsed, pipeline_->summary().lost, pipeline_->keyframeCount());
       }
     }
-    summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     loader.stop();
     if (options_.progress) std::fprintf(stderr, "\n");
-    pipeline.finish(&summary);
+    result = finish();
   } catch (...) {
     loader.stop();
-    pipeline.stopThreads();
+    pipeline_->stopThreads();
+    pipeline_.reset();  // a failed run leaves the system as it was, ready for another run()
     std::filesystem::remove_all(masks_partial);
     throw;
   }
-  summary.fps = summary.seconds > 0 ? summary.frames / summary.seconds : 0.0;
-  pipeline.write(out_dir, summary, &trajectory_);
+  writeSlamResult(out_dir, result, &stats_);
   if (std::filesystem::exists(masks_partial)) {
     std::filesystem::remove_all(out_dir + "/masks");
     std::filesystem::rename(masks_partial, out_dir + "/masks");
   }
-  return summary;
+  return result.summary;
 }
 
 }  // namespace pf2

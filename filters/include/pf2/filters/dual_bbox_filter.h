@@ -85,7 +85,7 @@ class DynamicEvidence {
   // CV_8U image of depth's size, 255 where the pixel is known static (the static scene was seen
   // there at this depth before), 0 where dynamic or unknown; empty when the source cannot tell.
   // Called once per filtered frame, after dynamicMask(); NOT required to be thread safe.
-  virtual cv::Mat staticMask(const cv::Mat& depth) { return cv::Mat(); }
+  virtual cv::Mat staticMask(const cv::Mat& /*depth*/) { return cv::Mat(); }
 };
 
 // The simplest evidence: a predicted static depth image for the current view (rendered from a map,

@@ -2,8 +2,8 @@
 // The pipeline of DESIGN.md: frames -> person detector -> Dual-BBox filter -> tracker -> mapper,
 // and the human tracker on the filter's people once the frame's pose is known.
 //
-// Threads: a loader decodes frames ahead; the calling thread runs detection, filtering and
-// tracking (the front end), then associates the people's centres (microseconds); the tracker's
+// Threads: run() decodes frames ahead in a loader thread; the calling thread runs detection,
+// filtering and tracking (the front end), then associates the people's centres (microseconds); the tracker's
 // pose-graph back end (loop closure) runs in its own thread; a mapper thread fuses keyframes into
 // the TSDF/OctoMap and re-fuses them when the pose graph moves them. Only the front end touches the
 // detector, filter, tracker and human tracker; only the mapper thread touches the Mapper.
@@ -13,6 +13,8 @@
 #include "pf2/core/frame_source.h"
 #include "pf2/core/pose.h"
 #include "pf2/core/stage_timer.h"
+#include "pf2/humans/human_track.h"
+#include "pf2/registration/tracker.h"
 #include "pf2/slam/slam_options.h"
 
 namespace pf2 {
@@ -31,31 +33,101 @@ struct SlamRunSummary {
   std::string detector;  // backend that ran ("none" when people were not removed)
 };
 
+// One frame's result, as SlamSystem::process() returns it.
+struct FrameResult {
+  double timestamp = 0;
+  TrackStatus status = TrackStatus::kLost;
+  bool has_pose = false;                                  // tracked, bridged or relocalised
+  Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity(); // as tracked now; the pose graph may
+                                                          // still correct it (SlamResult has the final one)
+  cv::Mat static_depth;  // D_b: CV_32F metres, the people removed (the input depth without a detector)
+  cv::Mat removed;       // CV_8U, 255 = depth the filter removed; empty without a detector
+  struct Person {
+    int id = 0;           // the human tracker's id (stable across frames)
+    Eigen::Vector3d p_c;  // centre in this camera's frame (paper eq. 2), metres
+    Eigen::Vector3d p_w;  // ... in the world frame (eq. 3) with T_w_c; meaningful with has_pose
+  };
+  std::vector<Person> people;  // with a detector and options.track_humans
+};
+
+// A run's final result, as SlamSystem::finish() returns it; writeSlamResult() saves it.
+struct SlamResult {
+  SlamRunSummary summary;
+  Trajectory trajectory;                // one pose per posed frame, loop-corrected (T_w_c)
+  bool has_humans = false;              // a detector ran and options.track_humans is set
+  std::vector<HumanTrack> humans;       // the people's centres in trajectory's world frame
+  std::vector<std::pair<double, TrackStatus>> frame_status;  // every frame's timestamp and status
+  std::string tracker_stages_json;      // the tracker's sub-stage timings (StageStats::toJson)
+  std::shared_ptr<Mapper> map;          // the fused map at the final poses; null without one
+  Mapper::ExportOptions map_files;      // which map files writeSlamResult() writes
+};
+
+// The pipeline on frames one at a time. The caller owns the frame loop (a recorded sequence, a
+// live camera); threads stay inside: the pose-graph back end and the mapper run in their own.
+//
+//   SlamSystem slam(options, createSlamDetector(options, folder, &name));
+//   for (const Frame& frame : frames) slam.process(frame);
+//   writeSlamResult(out_dir, slam.finish(), &slam.stats());
 class SlamSystem {
  public:
+  // detector: removes people from every frame; nullptr = none (the baseline). Throws pf2::Error
+  // on options outside their ranges (validateOptions).
+  SlamSystem(const SlamOptions& options, std::unique_ptr<HumanDetector> detector);
+  // The detector chosen by options.detector when run() is called (it may need the sequence's
+  // folder: the gt oracle reads its gt/ folder).
   explicit SlamSystem(const SlamOptions& options);
   ~SlamSystem();
 
-  // Runs over the frames of `source` and writes into out_dir (created if needed):
+  // One frame, in time order: people removed, camera tracked, people placed, the map fed. NOT
+  // thread safe: one caller, as for finish().
+  FrameResult process(const Frame& frame);
+  // Waits for the back end and the map and returns the final result. Call once, after the last
+  // process(); process() may not be called after it.
+  SlamResult finish();
+  // From now on each frame's removed mask is written as DIR/<timestamp>.png (DIR must exist).
+  void writeMasksTo(const std::string& dir);
+
+  // A recorded sequence, as pf2_slam runs it: the frames of `source` (decoded ahead in a loader
+  // thread) through process(), then writeSlamResult() into out_dir (created if needed):
   //   trajectory.txt  TUM format, one line per frame that has a pose, loop-corrected (T_w_c)
   //   stats.json      frames, lost/bridged/relocalised counts, per-stage median/p90 ms,
   //                   end-to-end fps, each frame's tracking status
-  //   map.ply, map.bt, map.ot (and map.pcd on request) when the map is built
+  //   map.ply, map.bt, map.ot (and map.pcd, map.obj on request) when the map is built
   //   humans.txt      `timestamp id x y z` person centres (eq. 2-3) in trajectory.txt's world
   //                   frame, when a detector ran and options.track_humans is set
+  //   masks/          with options.write_masks
   // sequence_folder (may be empty) is where a gt/ folder is looked for. Throws pf2::Error naming
-  // the file on bad input; outputs are written atomically. NOT thread safe; call once.
+  // the file on bad input; outputs are written atomically. Call once, instead of process().
   SlamRunSummary run(const FrameSource& source, const std::string& sequence_folder,
                      const std::string& out_dir);
 
-  // Available after run().
+  // Available after finish() or run().
   const Trajectory& trajectory() const { return trajectory_; }
+  // Per-stage timings (load, detect, filter, track, humans, frame, map, map_export). Thread safe.
   const StageStats& stats() const { return stats_; }
+  StageStats& stats() { return stats_; }
 
  private:
+  class Pipeline;
+  Pipeline& pipeline();
+
   SlamOptions options_;
-  Trajectory trajectory_;
   StageStats stats_;
+  std::unique_ptr<Pipeline> pipeline_;
+  Trajectory trajectory_;
 };
+
+// The detector options.detector names: "none" gives nullptr, "auto" the learned detector when its
+// models are installed (else HOG, with a warning on stderr), "gt" the oracle reading
+// sequence_folder/gt. *chosen gets the name of what was made. Throws pf2::Error for an unknown or
+// unavailable detector.
+std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, const std::string& sequence_folder,
+                                                  std::string* chosen);
+
+// Saves a result folder: trajectory.txt, humans.txt (with has_humans), the map files (with a map;
+// their export time goes into `stages` as "map_export"), then stats.json (summary, `stages`, the
+// tracker's sub-stages, each frame's status). Each file is written atomically. Throws pf2::Error
+// naming the file.
+void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages);
 
 }  // namespace pf2
