@@ -75,6 +75,49 @@ bool exists(const std::string& path) {
   return ::stat(path.c_str(), &info) == 0;
 }
 
+// The run's figures: frames and their status, keyframes, speed per stage.
+void printSummary(const std::string& sequence, const pf2::SlamRunSummary& s, const pf2::StageStats& stats) {
+  std::printf("sequence    %s\n", sequence.c_str());
+  std::printf("detector    %s\n", s.detector.c_str());
+  std::printf("frames      %d (posed %d: bridged %d, relocalised %d; lost %d)\n", s.frames, s.tracked,
+              s.bridged, s.relocalised, s.lost);
+  std::printf("keyframes   %d (local edges %d, loop closures %d)\n", s.keyframes, s.local_edges, s.loop_closures);
+  std::printf("fps         %.1f end to end (%.1f s)\n", s.fps, s.seconds);
+  for (const std::string& stage : stats.stages()) {
+    const pf2::StageSummary t = stats.summary(stage);
+    std::printf("  %-11s median %7.2f ms   p90 %7.2f ms   (%d calls)\n", stage.c_str(), t.median_ms,
+                t.p90_ms, t.count);
+  }
+}
+
+// ATE (and RPE over 1 s) of the run's trajectory against the ground truth.
+void printAccuracy(const pf2::Trajectory& ground_truth, const pf2::Trajectory& trajectory) {
+  const pf2::AteResult ate = pf2::computeAte(ground_truth, trajectory);
+  std::printf("ate.rmse    %.4f m  (mean %.4f, max %.4f, %d poses)\n", ate.translation.rmse,
+              ate.translation.mean, ate.translation.max, ate.translation.count);
+  try {
+    const pf2::RpeResult rpe = pf2::computeRpe(ground_truth, trajectory, pf2::RpeOptions());
+    std::printf("rpe.rmse    %.4f m, %.3f deg per second\n", rpe.translation.rmse, rpe.rotation.rmse);
+  } catch (const pf2::Error& e) {
+    // Too few poses one second apart (a short or mostly lost run): the ATE above still stands.
+    std::printf("rpe.rmse    unavailable (%s)\n", e.what());
+  }
+}
+
+void printOutputs(const std::string& out_dir, const pf2::SlamOptions& options, const std::string& detector) {
+  std::string files = "trajectory.txt, stats.json";
+  if (options.build_map) {
+    files += ", map.ply";
+    if (options.mapper.build_occupancy) files += ", map.bt, map.ot";
+    if (options.map_files.points_pcd) files += ", map.pcd";
+    if (options.map_files.mesh_obj) files += ", map.obj";
+  }
+  const bool people = detector != "none";
+  if (options.track_humans && people) files += ", humans.txt";
+  if (options.write_masks && people) files += ", masks/";
+  std::printf("output      %s/%s\n", out_dir.c_str(), files.c_str());
+}
+
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
   if (cli.helpRequested()) {
@@ -136,41 +179,14 @@ int run(int argc, char** argv) {
   pf2::SlamSystem system(options);
   const pf2::SlamRunSummary s = system.run(sequence, sequence_dir, out_dir);
 
-  std::printf("sequence    %s\n", sequence.description().c_str());
-  std::printf("detector    %s\n", s.detector.c_str());
-  std::printf("frames      %d (posed %d: bridged %d, relocalised %d; lost %d)\n", s.frames, s.tracked,
-              s.bridged, s.relocalised, s.lost);
-  std::printf("keyframes   %d\n", s.keyframes);
-  std::printf("fps         %.1f end to end (%.1f s)\n", s.fps, s.seconds);
-  for (const std::string& stage : system.stats().stages()) {
-    const pf2::StageSummary t = system.stats().summary(stage);
-    std::printf("  %-11s median %7.2f ms   p90 %7.2f ms   (%d calls)\n", stage.c_str(), t.median_ms,
-                t.p90_ms, t.count);
-  }
+  printSummary(sequence.description(), s, system.stats());
   if (eval_path) {
     // Default: a Bonn folder as published (rgbd_bonn_*) holds marker poses, anything else camera poses.
     const pf2::TrajectoryFormat format = gt_format.value_or(
         pf2::isBonnDynamicFolder(sequence_dir) ? pf2::TrajectoryFormat::kBonn : pf2::TrajectoryFormat::kTum);
-    const pf2::Trajectory ground_truth = pf2::readTrajectory(*eval_path, format);
-    const pf2::AteResult ate = pf2::computeAte(ground_truth, system.trajectory());
-    std::printf("ate.rmse    %.4f m  (mean %.4f, max %.4f, %d poses)\n", ate.translation.rmse,
-                ate.translation.mean, ate.translation.max, ate.translation.count);
-    try {
-      const pf2::RpeResult rpe = pf2::computeRpe(ground_truth, system.trajectory(), pf2::RpeOptions());
-      std::printf("rpe.rmse    %.4f m, %.3f deg per second\n", rpe.translation.rmse, rpe.rotation.rmse);
-    } catch (const pf2::Error& e) {
-      // Too few poses one second apart (a short or mostly lost run): the ATE above still stands.
-      std::printf("rpe.rmse    unavailable (%s)\n", e.what());
-    }
+    printAccuracy(pf2::readTrajectory(*eval_path, format), system.trajectory());
   }
-  std::string map_files;
-  if (options.build_map) {
-    map_files = ", map.ply, map.bt, map.ot";
-    if (options.map_files.points_pcd) map_files += ", map.pcd";
-    if (options.map_files.mesh_obj) map_files += ", map.obj";
-  }
-  std::printf("output      %s/trajectory.txt, stats.json%s%s\n", out_dir.c_str(), map_files.c_str(),
-              options.track_humans && s.detector != "none" ? ", humans.txt" : "");
+  printOutputs(out_dir, options, s.detector);
   return 0;
 }
 
