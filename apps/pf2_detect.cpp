@@ -205,9 +205,9 @@ pf2::DualBBoxFilter::Options parseFilterOptions(pf2::CommandLine& cli) {
   filter_options.use_mask = cli.flag("--use-mask");
   filter_options.mask_box_reach = cli.integer("--mask-reach", filter_options.mask_box_reach);
   filter_options.temporal = cli.flag("--temporal");
-  filter_options.temporal_dilation = cli.integer("--temporal-dilation", filter_options.temporal_dilation);
-  filter_options.temporal_margin = cli.number("--temporal-margin", filter_options.temporal_margin);
-  filter_options.temporal_person_motion = cli.number("--temporal-motion", filter_options.temporal_person_motion);
+  filter_options.temporal_guard.dilation = cli.integer("--temporal-dilation", filter_options.temporal_guard.dilation);
+  filter_options.temporal_guard.margin = cli.number("--temporal-margin", filter_options.temporal_guard.margin);
+  filter_options.temporal_guard.person_motion = cli.number("--temporal-motion", filter_options.temporal_guard.person_motion);
   filter_options.geometric = cli.flag("--geometric");
   return filter_options;
 }

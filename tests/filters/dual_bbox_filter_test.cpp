@@ -266,8 +266,8 @@ TEST(DualBBoxFilter, TemporalAdditionGuardsAMissedPersonForMaxAgeFrames) {
   const Scene scene;
   DualBBoxFilter::Options o = testOptions();
   o.temporal = true;
-  o.temporal_dilation = 1;
-  o.temporal_max_age = 2;
+  o.temporal_guard.dilation = 1;
+  o.temporal_guard.max_age = 2;
   DualBBoxFilter filter(o);
   filter.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
   filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
@@ -303,9 +303,9 @@ TEST(DualBBoxFilter, TemporalGuardWidensWithThePersonsMotionAtTheirDepth) {
   after(cv::Rect(38, 20, 10, 30)).setTo(0.6f);
   DualBBoxFilter::Options o = testOptions();
   o.temporal = true;
-  o.temporal_dilation = 2;
+  o.temporal_guard.dilation = 2;
   auto keptOfThePerson = [&](double person_motion) {
-    o.temporal_person_motion = person_motion;
+    o.temporal_guard.person_motion = person_motion;
     DualBBoxFilter filter(o);
     filter.setIntrinsics(CameraIntrinsics{60, 60, 40, 30, 80, 60});
     filter.filter(before, detections({person(30, 20, 40, 50)}));

@@ -31,6 +31,7 @@
 
 #include "pf2/core/camera_intrinsics.h"
 #include "pf2/detection/human_detector.h"
+#include "pf2/filters/temporal_guard.h"
 
 namespace pf2 {
 
@@ -142,14 +143,8 @@ class DualBBoxFilter {
                                      // this many pixels of it (the floor at a person's feet and the
                                      // wall beside them lie in the box at the person's depth);
                                      // 0 = everywhere in the box and ring (the paper)
-    bool temporal = false;           // guard with last frame's person pixels
-    double temporal_person_motion = 0.02;  // metres: the moved previous mask is dilated by this
-                                     // distance as seen at its depth (more pixels for near people);
-                                     // (0.04 removed 0.5 points more of the people and 12-19
-                                     // points more of the background: docs/filters.md)
-    int temporal_dilation = 6;       // ... and by at least this many pixels
-    double temporal_margin = 0.15;   // metres a depth may differ from the moved previous one
-    int temporal_max_age = 4;        // frames a pixel may be guarded without any box supporting it
+    bool temporal = false;           // guard with last frame's person pixels (TemporalGuard)
+    TemporalGuard::Options temporal_guard;
     bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
     double candidate_min_dynamic = 0.3;  // with geometric: a detector's candidate region
                                      // (Detections::candidates) at least this fraction of whose
@@ -205,33 +200,24 @@ class DualBBoxFilter {
 
   const Options& options() const { return options_; }
   // Replaces the options; the temporal state is kept. NOT thread safe.
-  void setOptions(const Options& options) { options_ = options; }
+  void setOptions(const Options& options) {
+    options_ = options;
+    temporal_.setOptions(options.temporal_guard);
+  }
 
  private:
-  struct BandGroup;  // temporal: moved cells of neighbouring depth bands, dilated together (.cpp)
-  // The temporal and geometric steps of filter() (the .cpp says what each does).
-  cv::Rect guardTemporally(const cv::Mat& depth, const Eigen::Isometry3d& T_cur_prev);
-  std::vector<BandGroup> temporalBandGroups(const cv::Rect& bounds, const cv::Size& half, cv::Rect* area) const;
-  void dilateBandGroups(const std::vector<BandGroup>& groups, const cv::Size& half, const cv::Rect& area);
-  cv::Rect guardPixels(const cv::Mat& depth, const cv::Rect& area);
+  // The geometric steps of filter() (the .cpp says what each does).
   cv::Mat geometricEvidence(const cv::Mat& depth);
   void confirmCandidates(const cv::Mat& depth, const Detections& detections, cv::Mat* dynamic);
   int candidateAge(const cv::Mat& depth, const cv::Mat& mask, const cv::Mat& dynamic,
                    const cv::Mat& previous_age) const;
-  void carryToNextFrame(const cv::Mat& depth, const std::vector<cv::Rect>& areas, const cv::Rect& guarded_area);
 
   Options options_;
   CameraIntrinsics intrinsics_;
   std::shared_ptr<DynamicEvidence> evidence_;
   // Working images kept between calls: allocating them anew costs more than filling them.
   cv::Mat depth_, state_, outside_;
-  cv::Mat age_, warped_, warped_age_, inverse_, nearest_inverse_, farthest_, age_or_max_, youngest_;
-  cv::Mat band_depth_, band_nearest_inverse_, band_farthest_, band_youngest_;  // temporal: one depth band
-  cv::Mat guard_low_, guard_high_;  // temporal: depth range guarded per half-resolution cell
-  // Last frame's carried pixels at half resolution (every second pixel and row):
-  cv::Mat previous_depth_;  // CV_32F depth of the people's and guarded pixels, 0 elsewhere
-  cv::Mat previous_age_;    // CV_8U frames since a box last supported each (where depth > 0)
-  cv::Rect previous_bounds_;  // bounds of previous_depth_'s non-zero pixels: the warp scans only these
+  TemporalGuard temporal_;
   // Geometric addition: per pixel, frames since the confirmed candidate covering it last had
   // evidence of its own (0 = this frame); kNotConfirmed where no candidate was confirmed.
   static constexpr int kNotConfirmed = 255;

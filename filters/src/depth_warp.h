@@ -1,0 +1,21 @@
+#pragma once
+// Depth warping shared by the filter's additions (not part of the public interface).
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "pf2/core/camera_intrinsics.h"
+
+namespace pf2 {
+
+// Forward-warps depth (and a companion CV_8U image) into another view, nearest point wins. The
+// outputs are reused when they already have the right size. Only source pixels inside source_area
+// are read (the caller knows the rest is zero). Returns the bounds of what landed. Thread safe for
+// distinct outputs.
+cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src, const CameraIntrinsics& K,
+                           const Eigen::Isometry3d& T_dst_src, const cv::Rect& source_area, cv::Mat* depth_dst,
+                           cv::Mat* companion_dst);
+
+// The half-resolution grid of an image (every second pixel and row, rounded up).
+inline cv::Size halfSize(const cv::Size& size) { return cv::Size((size.width + 1) / 2, (size.height + 1) / 2); }
+
+}  // namespace pf2
