@@ -24,6 +24,7 @@
 #include "pf2/detection/detector_factory.h"
 #include "pf2/filters/dual_bbox_filter.h"
 #include "pf2/filters/mask_metrics.h"
+#include "pf2/filters/person_removal.h"
 #include "pf2/io/tum_sequence.h"
 
 namespace {
@@ -238,16 +239,23 @@ std::unique_ptr<pf2::HumanDetector> createDetector(DetectOptions* options, const
   return pf2::createHumanDetector(options->detector_name, options->detector);
 }
 
+// The person removal pf2_detect runs: the filter and degradation from the command line, the
+// geometric addition's evidence with its plain defaults (0.15 m, no opening) fed by the stand-in model.
+pf2::PersonRemoval::Options removalOptions(const DetectOptions& options) {
+  pf2::PersonRemoval::Options removal;
+  removal.filter = options.filter;
+  removal.degradation = options.degradation;
+  return removal;
+}
+
 // The sequence, detector, filter and ground truth one run works with, opened in this order.
 struct DetectSetup {
   explicit DetectSetup(DetectOptions* options);
 
   const pf2::TumSequence sequence;
   const std::string gt_dir;
-  std::unique_ptr<pf2::HumanDetector> detector;
-  pf2::DualBBoxFilter filter;
-  std::shared_ptr<pf2::PredictedDepthEvidence> evidence;  // --geometric: the static model's depth
-  pf2::Trajectory poses;                                  // groundtruth.txt, empty without it
+  pf2::PersonRemoval removal;  // the detector and the filter, as pf2_slam runs them
+  pf2::Trajectory poses;       // groundtruth.txt, empty without it
   bool have_masks = false;                                // gt/masks exists: score the removal
   int misalign = 0;                                       // depth lies this many pixels right of gt
 };
@@ -256,11 +264,7 @@ struct DetectSetup {
 DetectSetup::DetectSetup(DetectOptions* options)
     : sequence(options->sequence_dir),
       gt_dir(options->gt_dir_option.empty() ? options->sequence_dir + "/gt" : options->gt_dir_option),
-      detector(createDetector(options, gt_dir)),
-      filter(options->filter) {
-  filter.setIntrinsics(sequence.intrinsics());
-  evidence = std::make_shared<pf2::PredictedDepthEvidence>();
-  filter.setDynamicEvidence(evidence);
+      removal(removalOptions(*options), createDetector(options, gt_dir)) {
   poses = sequence.hasGroundTruth() ? sequence.groundTruth() : pf2::Trajectory();
   have_masks = exists(gt_dir + "/masks");
   misalign = misalignmentFromReadme(gt_dir);
@@ -277,8 +281,8 @@ struct DetectTotals {
 
 // Removes the people from one frame's depth: the boxes cut out (--no-filter) or the Dual-BBox filter.
 void removePeople(const DetectOptions& options, DetectSetup& setup, const pf2::Frame& frame,
-                  const pf2::Detections& detections, const Eigen::Isometry3d& T_cur_prev, pf2::StageStats* stats,
-                  cv::Mat* static_depth, cv::Mat* removed) {
+                  const pf2::Detections& detections, const Eigen::Isometry3d& T_cur_prev, const cv::Mat& predicted,
+                  pf2::StageStats* stats, cv::Mat* static_depth, cv::Mat* removed) {
   if (options.no_filter) {
     *static_depth = frame.depth.clone();
     for (const auto& p : detections.people) {
@@ -288,8 +292,7 @@ void removePeople(const DetectOptions& options, DetectSetup& setup, const pf2::F
     }
     *removed = (frame.depth > 0) & (*static_depth == 0);
   } else {
-    pf2::ScopedStageTimer timer(stats, "filter");
-    pf2::DualBBoxFilter::Result result = setup.filter.filter(frame.depth, detections, T_cur_prev);
+    pf2::DualBBoxFilter::Result result = setup.removal.filter(frame, detections, T_cur_prev, predicted, stats);
     *static_depth = result.static_depth;
     *removed = result.removed;
   }
@@ -322,12 +325,7 @@ void processFrames(const DetectOptions& options, DetectSetup& setup, DetectTotal
   totals->frames = frames;
   for (size_t i = 0; i < frames; ++i) {
     const pf2::Frame frame = setup.sequence.frame(i);
-    pf2::Detections detections;
-    {
-      pf2::ScopedStageTimer timer(&totals->stats, "detector");
-      detections = setup.detector->detect(frame);
-    }
-    pf2::degradeDetections(options.degradation, frame.depth.size(), &detections);
+    const pf2::Detections detections = setup.removal.detect(frame, &totals->stats);
     totals->all_detections.push_back(detections);
 
     // Camera motion since the last frame, from groundtruth.txt (in the SLAM pipeline: odometry).
@@ -338,10 +336,9 @@ void processFrames(const DetectOptions& options, DetectSetup& setup, DetectTotal
     cv::Mat predicted;
     if (options.filter.geometric && !static_model.empty()) {
       predicted = pf2::warpDepth(static_model, frame.intrinsics, T_cur_prev);
-      setup.evidence->setPrediction(predicted);
     }
     cv::Mat static_depth, removed;
-    removePeople(options, setup, frame, detections, T_cur_prev, &totals->stats, &static_depth, &removed);
+    removePeople(options, setup, frame, detections, T_cur_prev, predicted, &totals->stats, &static_depth, &removed);
     if (options.filter.geometric) {
       // People only ever stand in front of the static scene, so the farthest depth seen is static.
       static_model = predicted.empty() ? static_depth.clone() : cv::max(predicted, static_depth);
@@ -357,7 +354,7 @@ void printReport(const DetectOptions& options, const DetectSetup& setup, const D
   const size_t frames = totals.frames;
   const pf2::MaskCounts& counts = totals.counts;
   const std::string& detector_name = options.detector_name;
-  const pf2::StageSummary det = totals.stats.summary("detector"), fil = totals.stats.summary("filter");
+  const pf2::StageSummary det = totals.stats.summary("detect"), fil = totals.stats.summary("filter");
   std::printf("frames           %zu\n", frames);
   std::printf("detector         %s\n", detector_name.c_str());
   std::printf("detector.ms      median %.3f  p90 %.3f  mean %.3f\n", det.median_ms, det.p90_ms, det.mean_ms);

@@ -17,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/filters/person_removal.h"
 #include "pf2/humans/human_position.h"
 #include "pf2/humans/human_tracker.h"
 
@@ -254,18 +255,14 @@ class SlamSystem::Pipeline {
   Pipeline(const SlamOptions& options, std::unique_ptr<HumanDetector> detector, StageStats* stats)
       : options_(options),
         stats_(stats),
-        detector_(std::move(detector)),
-        filter_(options.filter),
+        removal_(detector ? std::make_unique<PersonRemoval>(removalOptions(options), std::move(detector)) : nullptr),
         prediction_(predictionOptions(options)),
-        free_space_(std::make_shared<PredictedDepthEvidence>(options.geometric_margin, options.geometric_opening)),
         tracker_(options.tracker),
         mapper_(std::make_shared<Mapper>(options.mapper)),
         humans_(options.humans),
-        track_humans_(options.track_humans && detector_ != nullptr) {
-    free_space_->setStaticMargin(options.static_margin);
-    filter_.setDynamicEvidence(free_space_);
+        track_humans_(options.track_humans && removal_ != nullptr) {
     if (options.build_map) mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats);
-    summary_.detector = detector_ ? detector_->name() : "none";
+    summary_.detector = removal_ ? removal_->detector().name() : "none";
   }
   ~Pipeline() { stopThreads(); }
 
@@ -283,7 +280,7 @@ class SlamSystem::Pipeline {
       Detections detections;
       DualBBoxFilter::Result filtered;
       Frame static_frame = frame;
-      if (detector_) removePeople(frame, &detections, &filtered, &static_frame);
+      if (removal_) removePeople(frame, &detections, &filtered, &static_frame);
       TrackResult result;
       {
         ScopedStageTimer timer(stats_, "track");
@@ -342,7 +339,7 @@ class SlamSystem::Pipeline {
   }
 
   size_t keyframeCount() const { return tracker_.keyframes().size(); }
-  bool removesPeople() const { return detector_ != nullptr; }
+  bool removesPeople() const { return removal_ != nullptr; }
   const SlamRunSummary& summary() const { return summary_; }
 
  private:
@@ -352,26 +349,29 @@ class SlamSystem::Pipeline {
     return prediction;
   }
 
+  static PersonRemoval::Options removalOptions(const SlamOptions& options) {
+    PersonRemoval::Options removal;
+    removal.filter = options.filter;
+    removal.geometric_margin = options.geometric_margin;
+    removal.geometric_opening = options.geometric_opening;
+    removal.static_margin = options.static_margin;
+    return removal;
+  }
+
   // Detection and the Dual-BBox filter: static_frame gets the static depth D_b.
   void removePeople(const Frame& frame, Detections* detections, DualBBoxFilter::Result* filtered,
                     Frame* static_frame) {
-    {
-      ScopedStageTimer timer(stats_, "detect");
-      *detections = detector_->detect(frame);
-    }
-    ScopedStageTimer timer(stats_, "filter");
-    filter_.setIntrinsics(frame.intrinsics);
+    *detections = removal_->detect(frame, stats_);
     // Constant-velocity guess of this frame's motion, for the temporal guard.
     const Eigen::Isometry3d T_cur_prev =
         poses_in_row_ >= 2 ? T_w_prev_.inverse() * T_w_prevprev_ : Eigen::Isometry3d::Identity();
-    if (options_.filter.geometric) {
-      // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
-      free_space_->setPrediction(poses_in_row_ >= 1 ? prediction_.predict(tracker_.keyframes(),
-                                                                          T_w_prev_ * T_cur_prev.inverse(),
-                                                                          frame.intrinsics)
-                                                    : cv::Mat());
+    // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
+    cv::Mat prediction;
+    if (options_.filter.geometric && poses_in_row_ >= 1) {
+      ScopedStageTimer timer(stats_, "predict");
+      prediction = prediction_.predict(tracker_.keyframes(), T_w_prev_ * T_cur_prev.inverse(), frame.intrinsics);
     }
-    *filtered = filter_.filter(frame.depth, *detections, T_cur_prev);
+    *filtered = removal_->filter(frame, *detections, T_cur_prev, prediction, stats_);
     static_frame->depth = filtered->static_depth;
     if (!masks_dir_.empty()) writeMask(frame.timestamp, filtered->removed);
   }
@@ -442,10 +442,8 @@ class SlamSystem::Pipeline {
 
   const SlamOptions& options_;
   StageStats* stats_;
-  std::unique_ptr<HumanDetector> detector_;
-  DualBBoxFilter filter_;
+  std::unique_ptr<PersonRemoval> removal_;  // null without a detector
   KeyframeDepthPrediction prediction_;
-  std::shared_ptr<PredictedDepthEvidence> free_space_;
   std::string masks_dir_;  // empty: no masks written
   Tracker tracker_;
   std::shared_ptr<Mapper> mapper_;

@@ -1,0 +1,36 @@
+#include "pf2/filters/person_removal.h"
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+PersonRemoval::PersonRemoval(const Options& options, std::unique_ptr<HumanDetector> detector)
+    : options_(options),
+      detector_(std::move(detector)),
+      filter_(options.filter),
+      evidence_(std::make_shared<PredictedDepthEvidence>(options.geometric_margin, options.geometric_opening)) {
+  if (!detector_) throw Error("PersonRemoval: a detector is required");
+  evidence_->setStaticMargin(options.static_margin);
+  filter_.setDynamicEvidence(evidence_);
+}
+
+Detections PersonRemoval::detect(const Frame& frame, StageStats* stats) {
+  Detections detections;
+  {
+    ScopedStageTimer timer(stats, "detect");
+    detections = detector_->detect(frame);
+  }
+  degradeDetections(options_.degradation, frame.depth.size(), &detections);
+  return detections;
+}
+
+DualBBoxFilter::Result PersonRemoval::filter(const Frame& frame, const Detections& detections,
+                                             const Eigen::Isometry3d& T_cur_prev, const cv::Mat& prediction,
+                                             StageStats* stats) {
+  ScopedStageTimer timer(stats, "filter");
+  filter_.setIntrinsics(frame.intrinsics);
+  if (options_.filter.geometric) evidence_->setPrediction(prediction);
+  return filter_.filter(frame.depth, detections, T_cur_prev);
+}
+
+}  // namespace pf2
