@@ -1,8 +1,12 @@
 # pf2_add_library(NAME SOURCES ... [PUBLIC_LIBS ...] [PRIVATE_LIBS ...])
-# One library per stage folder; public headers live in <folder>/include/pf2/<stage>/.
+# One library per stage folder; public headers live in <folder>/include/pf2/<stage>/. The library
+# is also pf2::<folder> (pf2::core, pf2::slam, pf2::synth, ...), the name the rest of the build
+# uses; NAME differs only where an app has the folder's name (pf2_slam, pf2_eval, pf2_synth).
 function(pf2_add_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
   add_library(${name} ${ARG_SOURCES})
+  get_filename_component(folder ${CMAKE_CURRENT_SOURCE_DIR} NAME)
+  add_library(pf2::${folder} ALIAS ${name})
   target_include_directories(${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
   target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
 endfunction()

@@ -5,12 +5,7 @@
 
 #include "pf2/core/error.h"
 
-// Learned (TF.js) backends, modules/detection/tfjs: PF2_HAVE_TFJS is defined by
-// modules/detection/CMakeLists.txt when the target pf2_tfjs exists.
-#ifdef PF2_HAVE_TFJS
 #include "pf2/detection/tfjs_factory.h"
-#endif
-// ---- end of learned backend headers.
 
 namespace pf2 {
 namespace {
@@ -23,13 +18,11 @@ const std::map<std::string, Factory>& registry() {
       {"hog", [](const DetectorOptions& o) { return std::make_unique<HogDetector>(o.hog); }},
       {"file", [](const DetectorOptions& o) { return std::make_unique<FileDetector>(o.file); }},
       {"yolo", [](const DetectorOptions& o) { return std::make_unique<YoloDetector>(o.yolo); }},
-// Learned (TF.js) backends: "selfie", "movenet" and "learned" are registered here (and only here);
-// their options come from DetectorOptions::extra ("key" -> "value").
-#ifdef PF2_HAVE_TFJS
+      // Learned (TF.js) backends (modules/detection/tfjs); their options come from
+      // DetectorOptions::extra ("key" -> "value").
       {"selfie", [](const DetectorOptions& o) { return createSelfieDetector(o.extra); }},
       {"movenet", [](const DetectorOptions& o) { return createMoveNetDetector(o.extra); }},
       {"learned", [](const DetectorOptions& o) { return createLearnedDetector(o.extra); }},
-#endif
   };
   return factories;
 }
