@@ -23,6 +23,9 @@
 #include "pf2/core/stage_timer.h"
 #include "pf2/detection/detector_factory.h"
 #include "pf2/filters/dual_bbox_filter.h"
+#include "pf2/core/config_file.h"
+#include "pf2/core/settings.h"
+#include "pf2/filters/filter_settings.h"
 #include "pf2/filters/mask_metrics.h"
 #include "pf2/filters/person_removal.h"
 #include "pf2/io/tum_sequence.h"
@@ -61,30 +64,14 @@ const char* kUsage =
     "  --drop P               each person is missed with probability P (default 0)\n"
     "  --false-positives R    R false boxes per frame on average (default 0)\n"
     "  --seed N               random seed (default 1)\n"
-    "Filter (defaults are the paper's):\n"
-    "  --lambda L             box enlargement for the ring (default 1.2)\n"
-    "  --background-margin M  metres around (b_min, b_max) (default 0.1)\n"
-    "  --human-margin M       metres around (h_min, h_max) (default 0.2)\n"
-    "  --min-confidence C     boxes need score > C (default 0.5)\n"
-    "  --bin-width M          depth histogram bin, metres (default 0.05)\n"
-    "  --human-window M       width of the person's principal depth window, metres (default 1.0)\n"
-    "  --grow-fraction F      window grows into bins holding >= F x its mean bin (default 0.03)\n"
-    "  --near-preference F    nearest window holding >= F x the best count wins (default 0.6)\n"
-    "  --surround-weight W    take W x the density of depths around a box off its histogram\n"
-    "                         (default 0.5; 0 = the plain histogram)\n"
-    "  --surround-scale S     the surround is the box enlarged by S (default 2)\n"
-    "  --separate-occlusions B  1: overlapping boxes that found one person look again (default 1)\n"
-    "  --use-mask             also remove backend masks (dilated) where a backend gives them\n"
-    "  --mask-reach PX        with --use-mask: box and ring rules act only within PX pixels of a\n"
-    "                         person's mask (default 0 = everywhere in the box, the paper)\n"
-    "  --temporal             guard last frame's removed pixels, moved by groundtruth.txt motion\n"
-    "  --temporal-motion M    metres a person moves per frame: the moved pixels are dilated by it as\n"
-    "                         seen at their depth (default 0.02)\n"
-    "  --temporal-dilation PX   ... and by at least PX pixels (default 6)\n"
-    "  --temporal-margin M    metres a depth may differ from the moved ones (default 0.15)\n"
-    "  --geometric            remove depth in front of a static model: the farthest static depth\n"
-    "                         seen at each pixel, carried from frame to frame with the camera motion\n"
-    "                         (a stand-in for the map's prediction, which the SLAM pipeline supplies)\n"
+    "Filter (defaults are the paper's; the filter.* keys of docs/config.md, same meaning):\n"
+    "  --config FILE          'key value' lines (filter.* keys only)\n"
+    "  --set KEY=VALUE        one setting, after --config (repeatable), e.g.\n"
+    "                         --set filter.use_mask=true --set filter.temporal=true (the temporal guard\n"
+    "                         moves last frame's pixels by groundtruth.txt's motion) --set\n"
+    "                         filter.geometric=true (depth in front of the farthest static depth seen\n"
+    "                         so far, a stand-in for the prediction pf2_slam makes from its keyframes)\n"
+    "  --settings             print the filter settings (key, default, unit, range, meaning) and exit\n"
     "  --no-filter            write the input depth with the boxes' pixels removed (boxes only)\n"
     "Other:\n"
     "  --max-frames N         process the first N frames only\n"
@@ -188,28 +175,14 @@ pf2::BoxDegradation parseDegradation(pf2::CommandLine& cli) {
   return degradation;
 }
 
-// Reads the Dual-BBox filter options; the ones not given keep the paper's defaults.
+// Reads the Dual-BBox filter's settings (--config, then each --set); the ones not given keep the
+// paper's defaults.
 pf2::DualBBoxFilter::Options parseFilterOptions(pf2::CommandLine& cli) {
   pf2::DualBBoxFilter::Options filter_options;
-  filter_options.box_scale = cli.number("--lambda", filter_options.box_scale);
-  filter_options.background_margin = cli.number("--background-margin", filter_options.background_margin);
-  filter_options.human_margin = cli.number("--human-margin", filter_options.human_margin);
-  filter_options.min_confidence = cli.number("--min-confidence", filter_options.min_confidence);
-  pf2::HistogramOptions& human = filter_options.human_histogram;
-  human.bin_width = filter_options.background_histogram.bin_width = cli.number("--bin-width", human.bin_width);
-  human.window = cli.number("--human-window", human.window);
-  human.grow_fraction = cli.number("--grow-fraction", human.grow_fraction);
-  human.near_preference = cli.number("--near-preference", human.near_preference);
-  human.surround_weight = cli.number("--surround-weight", human.surround_weight);
-  filter_options.surround_scale = cli.number("--surround-scale", filter_options.surround_scale);
-  filter_options.separate_occlusions = cli.integer("--separate-occlusions", 1) != 0;
-  filter_options.use_mask = cli.flag("--use-mask");
-  filter_options.mask_box_reach = cli.integer("--mask-reach", filter_options.mask_box_reach);
-  filter_options.temporal = cli.flag("--temporal");
-  filter_options.temporal_guard.dilation = cli.integer("--temporal-dilation", filter_options.temporal_guard.dilation);
-  filter_options.temporal_guard.margin = cli.number("--temporal-margin", filter_options.temporal_guard.margin);
-  filter_options.temporal_guard.person_motion = cli.number("--temporal-motion", filter_options.temporal_guard.person_motion);
-  filter_options.geometric = cli.flag("--geometric");
+  pf2::Settings settings;
+  pf2::declareFilterSettings(&filter_options, &settings);
+  if (const auto config_path = cli.value("--config")) settings.apply(pf2::ConfigFile::load(*config_path));
+  for (const std::string& assignment : cli.values("--set")) settings.setAssignment(assignment);
   return filter_options;
 }
 
@@ -380,6 +353,13 @@ int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
   if (cli.helpRequested()) {
     std::cout << kUsage;
+    return 0;
+  }
+  if (cli.flag("--settings")) {
+    pf2::DualBBoxFilter::Options defaults;
+    pf2::Settings settings;
+    pf2::declareFilterSettings(&defaults, &settings);
+    std::cout << settings.markdown();
     return 0;
   }
   DetectOptions options = parseOptions(cli);

@@ -49,7 +49,7 @@ echo "| --- | --- | --- | --- | --- | --- |"
 cases=("static:--camera static" "xyz:--camera xyz" "halfsphere:--camera halfsphere" "rpy:--camera rpy"
        "xyz_misalign3_blur:--camera xyz --misalign 3 --blur")
 "$build/apps/pf2_synth" -h | grep -q -- '--close' && cases+=("close_xyz:--camera xyz --close")
-slam_filter=(--use-mask --mask-reach 20 --temporal)
+slam_filter=(--set filter.use_mask=true --set filter.mask_reach=20 --set filter.temporal=true)
 for spec in "${cases[@]}"; do
   name="${spec%%:*}"
   read -r -a args <<< "${spec#*:}"
@@ -60,5 +60,5 @@ for spec in "${cases[@]}"; do
   slam_row "$name" "$sequence" "pf2_slam" "$misalign"
   row "$name" "$sequence" "paper's filter" 
   row "$name" "$sequence" "pf2_detect, pf2_slam's settings" "${slam_filter[@]}"
-  row "$name" "$sequence" "pf2_detect, + stand-in geometric" "${slam_filter[@]}" --geometric
+  row "$name" "$sequence" "pf2_detect, + stand-in geometric" "${slam_filter[@]}" --set filter.geometric=true
 done

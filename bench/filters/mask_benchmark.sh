@@ -26,36 +26,36 @@ echo "| --- | --- | --- | --- | --- | --- |"
 causes="--shrink 0.1 --shift 5"  # the paper's failure causes only: incomplete, misaligned boxes
 for spec in "${sequences[@]}"; do
   set -- $spec; s="$1"
-  row "gt shrunk+shifted, paper, plain histogram" "$s" $causes --surround-weight 0 --separate-occlusions 0
+  row "gt shrunk+shifted, paper, plain histogram" "$s" $causes --set filter.surround_weight=0 --set filter.separate_occlusions=false
   row "gt shrunk+shifted, paper" "$s" $causes
-  row "gt shrunk+shifted, + mask" "$s" $causes --gt-mask --use-mask
-  row "gt shrunk+shifted, + temporal" "$s" $causes --temporal
-  row "gt shrunk+shifted, + geometric" "$s" $causes --geometric
-  row "gt shrunk+shifted, all three" "$s" $causes --gt-mask --use-mask --temporal --geometric
+  row "gt shrunk+shifted, + mask" "$s" $causes --gt-mask --set filter.use_mask=true
+  row "gt shrunk+shifted, + temporal" "$s" $causes --set filter.temporal=true
+  row "gt shrunk+shifted, + geometric" "$s" $causes --set filter.geometric=true
+  row "gt shrunk+shifted, all three" "$s" $causes --gt-mask --set filter.use_mask=true --set filter.temporal=true --set filter.geometric=true
 done
 for spec in "${sequences[@]}"; do
   set -- $spec; s="$1"
   row "gt degraded, paper" "$s" $degrade
-  row "gt degraded, + mask" "$s" $degrade --gt-mask --use-mask
-  row "gt degraded, + temporal" "$s" $degrade --temporal
-  row "gt degraded, + geometric" "$s" $degrade --geometric
-  row "gt degraded, all three" "$s" $degrade --gt-mask --use-mask --temporal --geometric
+  row "gt degraded, + mask" "$s" $degrade --gt-mask --set filter.use_mask=true
+  row "gt degraded, + temporal" "$s" $degrade --set filter.temporal=true
+  row "gt degraded, + geometric" "$s" $degrade --set filter.geometric=true
+  row "gt degraded, all three" "$s" $degrade --gt-mask --set filter.use_mask=true --set filter.temporal=true --set filter.geometric=true
 done
 for spec in "${sequences[@]}"; do
   set -- $spec; s="$1"
   # HOG once per sequence; its boxes are replayed through the file backend for the additions.
   row "hog, paper" "$s" --detector hog
   cp "$work/out_$s/boxes.txt" "$work/hog_$s.txt"
-  row "hog, + temporal" "$s" --detector file --boxes "$work/hog_$s.txt" --temporal
-  row "hog, + geometric" "$s" --detector file --boxes "$work/hog_$s.txt" --geometric
-  row "hog, temporal + geometric" "$s" --detector file --boxes "$work/hog_$s.txt" --temporal --geometric
+  row "hog, + temporal" "$s" --detector file --boxes "$work/hog_$s.txt" --set filter.temporal=true
+  row "hog, + geometric" "$s" --detector file --boxes "$work/hog_$s.txt" --set filter.geometric=true
+  row "hog, temporal + geometric" "$s" --detector file --boxes "$work/hog_$s.txt" --set filter.temporal=true --set filter.geometric=true
 done
 if [ "${PF2_SKIP_LEARNED:-0}" != 1 ]; then
   for spec in "${sequences[@]}"; do
     set -- $spec; s="$1"
     # The learned backend (selfie masks + MoveNet poses) needs scripts/fetch_models.sh.
     row "learned, paper" "$s" --detector learned
-    row "learned, + mask" "$s" --detector learned --use-mask
-    row "learned, + mask + temporal + geometric" "$s" --detector learned --use-mask --temporal --geometric
+    row "learned, + mask" "$s" --detector learned --set filter.use_mask=true
+    row "learned, + mask + temporal + geometric" "$s" --detector learned --set filter.use_mask=true --set filter.temporal=true --set filter.geometric=true
   done
 fi

@@ -19,6 +19,14 @@ grep -q "$work/nope" "$work/err" || fail "error does not name the folder: $(cat 
 if "$detect" "$work/seq" "$work/out0" --detector nope 2> "$work/err"; then fail "unknown detector accepted"; fi
 grep -q "unknown detector 'nope'" "$work/err" || fail "unknown detector message: $(cat "$work/err")"
 
+# Filter settings are the filter.* keys (as pf2_slam's): a value out of range is one error line
+# naming the key and range, and nothing is written; --settings lists the keys with their defaults.
+if "$detect" "$work/seq" "$work/out_bad" --set filter.box_scale=9 2> "$work/err"; then fail "box_scale 9 accepted"; fi
+[ "$(wc -l < "$work/err")" -eq 1 ] || fail "more than one error line: $(cat "$work/err")"
+grep -qF "filter.box_scale = 9: outside its range [1, 3]" "$work/err" || fail "range message: $(cat "$work/err")"
+[ ! -e "$work/out_bad" ] || fail "output written for a refused setting"
+"$detect" --settings | grep -qF '| `filter.box_scale` | 1.2 |' || fail "--settings does not list filter.box_scale"
+
 # Ground-truth boxes on clean depth: every person pixel removed, every static one kept.
 "$detect" "$work/seq" "$work/out" --json > "$work/log" || fail "gt run failed: $(cat "$work/log")"
 for f in "$work"/seq/depth/*.png; do

@@ -1,5 +1,7 @@
 #include "pf2/slam/slam_options.h"
 
+#include "pf2/filters/filter_settings.h"
+
 
 #include "pf2/core/error.h"
 
@@ -55,35 +57,14 @@ void detectorSettings(SlamOptions& o, Settings& s) {
            "gt misses each person with this probability");
 }
 
+// The filter's own keys, then pf2_slam's geometric addition: the keyframes' prediction.
 void filterSettings(SlamOptions& o, Settings& s) {
-  DualBBoxFilter::Options& f = o.filter;
-  s.number("filter.min_confidence", &f.min_confidence, 0.0, 1.0, "score", "boxes with a higher score are used");
-  s.number("filter.box_scale", &f.box_scale, 1.0, 3.0, "factor", "lambda: box enlargement for the ring");
-  s.number("filter.background_margin", &f.background_margin, 0.0, 2.0, "metres", "margin around (b_min, b_max)");
-  s.number("filter.human_margin", &f.human_margin, 0.0, 2.0, "metres", "margin around (h_min, h_max)");
-  s.number("filter.surround_weight", &f.human_histogram.surround_weight, 0.0, 1.0, "weight",
-           "share of the surround's depth density taken off a person's histogram (docs/filters.md)");
-  s.number("filter.surround_scale", &f.surround_scale, 1.0, 5.0, "factor", "box enlargement giving the surround");
-  s.boolean("filter.separate_occlusions", &f.separate_occlusions, "overlapping boxes that found one person look again");
-  s.boolean("filter.use_mask", &f.use_mask, "use the detector's person masks");
-  s.integer("filter.mask_dilation", &f.mask_dilation, 0, 50, "pixels", "dilation of a person mask");
-  s.integer("filter.mask_reach", &f.mask_box_reach, 0, 200, "pixels",
-            "with masks, the box and ring rules act only this near a person's mask (0 = everywhere, the paper)");
-  s.boolean("filter.temporal", &f.temporal, "guard with the previous frame's person pixels");
-  s.boolean("filter.geometric", &f.geometric,
-            "remove depth in front of the newest keyframes' static depth seen from the predicted pose");
+  declareFilterSettings(&o.filter, &s);
   s.number("filter.geometric_margin", &o.geometric_margin, 0.01, 2.0, "metres", "in front of the prediction by more: dynamic");
   s.integer("filter.geometric_opening", &o.geometric_opening, 0, 50, "pixels", "opening radius of the dynamic mask");
   s.integer("filter.geometric_keyframes", &o.prediction.keyframes, 1, 10, "keyframes", "keyframes the prediction is made from");
-  s.number("filter.candidate_min_dynamic", &f.candidate_min_dynamic, 0.0, 1.0, "fraction",
-           "share of a detector candidate's measured pixels in front of the prediction that makes it a person "
-           "(0 = candidates ignored)");
-  s.boolean("filter.keep_static", &f.keep_static,
-            "depth known static (within filter.static_margin of the prediction) is kept unless a mask or "
-            "dynamic evidence covers it");
-  s.number("filter.static_margin", &o.static_margin, 0.0, 1.0, "metres", "plus 1 % of the depth; see filter.keep_static");
-  s.integer("filter.candidate_memory", &f.candidate_memory, 0, 254, "frames",
-            "a confirmed candidate stays one without fresh evidence while it follows a confirmed region or person");
+  s.number("filter.static_margin", &o.static_margin, 0.0, 1.0, "metres",
+           "plus 1 % of the depth: this close to the prediction is known static (filter.keep_static)");
 }
 
 void odometrySettings(RgbdOdometry::Options& d, Settings& s) {
@@ -122,6 +103,8 @@ void trackerSettings(SlamOptions& o, Settings& s) {
   s.number("tracker.local_max_angle", &t.backend.local_max_angle, 0.0, kPi, "radians", "of the local window");
   s.number("tracker.keyframe_translation", &t.keyframes.max_translation, 0.01, 5.0, "metres", "new keyframe after");
   s.number("tracker.keyframe_rotation", &t.keyframes.max_rotation, 0.01, kPi, "radians", "new keyframe after");
+  s.number("tracker.min_keyframe_depth_fraction", &t.min_keyframe_depth_fraction, 0.0, 1.0, "fraction",
+           "a keyframe needs at least this share of pixels with usable (static) depth");
   s.boolean("tracker.asynchronous_backend", &t.asynchronous_backend, "pose graph in its own thread");
 }
 
