@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
+#include "image_ops.h"
 
 namespace pf2 {
 namespace {
@@ -43,24 +44,6 @@ void sanitize(const cv::Mat& depth, cv::Mat& out) {
   }
 }
 
-// The mask's pixels dilated by `radius` (a disc), as an image of `area`'s size: the mask's
-// bounding box grown by radius, clipped to the image. Empty (and area empty) for an empty mask.
-cv::Mat dilatedOnArea(const cv::Mat& mask, int radius, cv::Rect* area) {
-  const cv::Rect bounds = cv::boundingRect(mask);
-  if (bounds.empty()) {
-    *area = cv::Rect();
-    return cv::Mat();
-  }
-  const int r = std::max(0, radius);
-  *area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
-          cv::Rect(0, 0, mask.cols, mask.rows);
-  cv::Mat binary = mask(*area) > 0;
-  if (r > 0) {
-    cv::dilate(binary, binary, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)),
-               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED, cv::Scalar(0));
-  }
-  return binary;
-}
 
 // A box the filter uses: confident and not empty once clipped to the image.
 struct FilterBox {
@@ -293,9 +276,13 @@ cv::Mat DualBBoxFilter::Person::fullMask(const cv::Size& image) const {
   return full;
 }
 
-DualBBoxFilter::DualBBoxFilter(const Options& options) : options_(options), temporal_(options.temporal_guard) {}
+DualBBoxFilter::DualBBoxFilter(const Options& options)
+    : options_(options), temporal_(options.temporal_guard), geometric_(options.geometric_addition) {}
 
-void DualBBoxFilter::reset() { temporal_.reset(); }
+void DualBBoxFilter::reset() {
+  temporal_.reset();
+  geometric_.reset();
+}
 
 namespace {
 
@@ -392,11 +379,9 @@ std::vector<cv::Rect> labelPeople(const cv::Mat& depth, const std::vector<Filter
 }
 
 // Geometric addition, the other way: a pixel the box, ring or temporal rule removed is given back
-// when the evidence knows it as static (`known`) and neither a person's mask nor dynamic evidence
-// covers it.
-void keepKnownStatic(cv::Mat known, const std::vector<FilterBox>& boxes, const cv::Mat& dynamic, cv::Mat& state) {
+// when the evidence knows it as static (`known`: not dynamic) and no person's mask covers it.
+void keepKnownStatic(cv::Mat known, const std::vector<FilterBox>& boxes, cv::Mat& state) {
   if (known.empty()) return;
-  known.setTo(0, dynamic);
   for (const FilterBox& b : boxes) {
     if (!b.mask.empty()) known(b.mask_area).setTo(0, b.mask);
   }
@@ -493,69 +478,6 @@ void collectPeople(const cv::Mat& depth, const cv::Mat& state, const std::vector
 
 }  // namespace
 
-// Geometric addition: the DynamicEvidence's mask (empty when off). Applied in the output pass; the
-// pixels it removes keep their state (kept), so they are not carried to the next frame: they may be
-// background.
-cv::Mat DualBBoxFilter::geometricEvidence(const cv::Mat& depth) {
-  cv::Mat dynamic;
-  if (options_.geometric && evidence_) {
-    dynamic = evidence_->dynamicMask(depth);
-    if (dynamic.size() != depth.size() || dynamic.type() != CV_8U) {
-      throw Error("DualBBoxFilter: DynamicEvidence returned a mask that is not CV_8U of the depth's size");
-    }
-  }
-  return dynamic;
-}
-
-// Geometric addition, fused with the detector: a candidate region (a person-like mask the detector
-// could not call a person) whose measured pixels are dynamic often enough is a person; all of its
-// mask joins the dynamic pixels, also the parts the evidence cannot see (where the person stood
-// still, or the prediction had no depth). A candidate lying mostly on last frame's confirmed pixels
-// (or on a person the detector reported) stays confirmed without fresh evidence for up to
-// candidate_memory frames: once part of a person has reached a keyframe, the prediction holds them
-// and shows them as static.
-void DualBBoxFilter::confirmCandidates(const cv::Mat& depth, const Detections& detections, cv::Mat* dynamic) {
-  if (!(options_.candidate_min_dynamic > 0.0)) return;
-  if (confirmed_age_.size() != depth.size()) confirmed_age_ = cv::Mat(depth.size(), CV_8U, cv::Scalar(kNotConfirmed));
-  // The detector's people count as confirmed too: a person it loses for a few frames (too close,
-  // cut by the border) comes back as a candidate on the same pixels.
-  cv::Mat next_age(depth.size(), CV_8U, cv::Scalar(kNotConfirmed));
-  for (const PersonDetection& person : detections.people) {
-    if (person.score > options_.min_confidence && person.mask.size() == depth.size()) next_age.setTo(0, person.mask);
-  }
-  for (const PersonDetection& candidate : detections.candidates) {
-    if (candidate.mask.empty()) continue;
-    if (candidate.mask.size() != depth.size() || candidate.mask.type() != CV_8U) {
-      throw Error("DualBBoxFilter: a candidate's mask is not CV_8U of the depth's size");
-    }
-    cv::Rect area;
-    const cv::Mat grown = dilatedOnArea(candidate.mask, options_.mask_dilation, &area);
-    if (area.empty()) continue;
-    const int age = candidateAge(depth(area), candidate.mask(area), (*dynamic)(area), confirmed_age_(area));
-    if (age == kNotConfirmed) continue;
-    (*dynamic)(area).setTo(255, grown);
-    cv::Mat ages(area.size(), CV_8U, cv::Scalar(kNotConfirmed));
-    ages.setTo(age, grown);
-    cv::Mat target = next_age(area);
-    cv::min(target, ages, target);
-  }
-  confirmed_age_ = next_age;
-}
-
-// 0 with fresh evidence, 1 + the youngest age under it when carried, else kNotConfirmed.
-int DualBBoxFilter::candidateAge(const cv::Mat& depth, const cv::Mat& mask, const cv::Mat& dynamic,
-                                 const cv::Mat& previous_age) const {
-  const cv::Mat inside = mask > 0;
-  const cv::Mat measured = inside & (depth > 0.f);
-  const int total = cv::countNonZero(measured);
-  if (total > 0 && cv::countNonZero(measured & (dynamic > 0)) >= options_.candidate_min_dynamic * total) return 0;
-  const cv::Mat carried = inside & (previous_age < kNotConfirmed);
-  if (cv::countNonZero(carried) * 2 < cv::countNonZero(inside)) return kNotConfirmed;
-  double youngest = kNotConfirmed;
-  cv::minMaxLoc(previous_age, &youngest, nullptr, nullptr, nullptr, carried);
-  return youngest + 1 <= options_.candidate_memory ? static_cast<int>(youngest) + 1 : kNotConfirmed;
-}
-
 // Algorithm 1 (scene separation, the ring, the outputs) with the additions, step by step.
 DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Detections& detections,
                                               const Eigen::Isometry3d& T_cur_prev) {
@@ -579,9 +501,9 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   const std::vector<cv::Rect> areas = labelPeople(depth, boxes, intervals, second_intervals, human_margin, state_);
   removeRingOutliers(depth, boxes, result.background, o.background_margin, outside_, state_);
   const cv::Rect guarded_area = o.temporal ? temporal_.guard(depth, intrinsics_, T_cur_prev, state_) : cv::Rect();
-  cv::Mat dynamic = geometricEvidence(depth);
-  if (!dynamic.empty()) confirmCandidates(depth, detections, &dynamic);
-  if (!dynamic.empty() && o.keep_static) keepKnownStatic(evidence_->staticMask(depth), boxes, dynamic, state_);
+  const cv::Mat dynamic =
+      o.geometric ? geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation) : cv::Mat();
+  if (!dynamic.empty()) keepKnownStatic(geometric_.knownStatic(depth, dynamic), boxes, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);

@@ -38,12 +38,12 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->boolean("filter.geometric", &f->geometric,
              "remove depth in front of a predicted static depth (pf2_slam: the newest keyframes'; pf2_detect: "
              "the farthest depth seen so far)");
-  s->number("filter.candidate_min_dynamic", &f->candidate_min_dynamic, 0.0, 1.0, "fraction",
+  s->number("filter.candidate_min_dynamic", &f->geometric_addition.candidate_min_dynamic, 0.0, 1.0, "fraction",
             "share of a detector candidate's measured pixels in front of the prediction that makes it a person "
             "(0 = candidates ignored)");
-  s->integer("filter.candidate_memory", &f->candidate_memory, 0, 254, "frames",
+  s->integer("filter.candidate_memory", &f->geometric_addition.candidate_memory, 0, 254, "frames",
              "a confirmed candidate stays one without fresh evidence while it follows a confirmed region or person");
-  s->boolean("filter.keep_static", &f->keep_static,
+  s->boolean("filter.keep_static", &f->geometric_addition.keep_static,
              "depth the prediction knows as static is kept unless a mask or dynamic evidence covers it");
 }
 

@@ -6,7 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "depth_warp.h"
+#include "image_ops.h"
 
 namespace pf2 {
 namespace {

@@ -380,18 +380,18 @@ TEST(DualBBoxFilter, GeometricEvidenceConfirmsACandidateAndCarriesIt) {
   DualBBoxFilter::Options o = testOptions();
   o.geometric = true;
   o.mask_dilation = 0;
-  o.candidate_memory = 2;
+  o.geometric_addition.candidate_memory = 2;
   auto removedOnBody = [&](DualBBoxFilter& filter) {
     return cv::countNonZero(filter.filter(depth, seen).removed(body));
   };
 
-  o.candidate_min_dynamic = 0.0;  // candidates ignored: the evidence's half only
+  o.geometric_addition.candidate_min_dynamic = 0.0;  // candidates ignored: the evidence's half only
   DualBBoxFilter evidence_only(o);
   evidence_only.setDynamicEvidence(evidence);
   evidence->setPrediction(prediction);
   EXPECT_EQ(removedOnBody(evidence_only), 100);
 
-  o.candidate_min_dynamic = 0.3;
+  o.geometric_addition.candidate_min_dynamic = 0.3;
   DualBBoxFilter fused(o);
   fused.setDynamicEvidence(evidence);
   EXPECT_EQ(removedOnBody(fused), 200);
@@ -429,7 +429,7 @@ TEST(DualBBoxFilter, KeepStaticGivesBackWhatOnlyTheRulesRemoved) {
   const auto before = rules_only.filter(scene.depth, detections({p}));
   EXPECT_EQ(before.static_depth.at<float>(27, 20), 0.f);  // ring outlier removed (line 11)
   EXPECT_EQ(before.static_depth.at<float>(12, 13), 0.f);
-  o.keep_static = true;
+  o.geometric_addition.keep_static = true;
   DualBBoxFilter keeping(o);
   keeping.setDynamicEvidence(evidence);
   const auto after = keeping.filter(scene.depth, detections({p}));

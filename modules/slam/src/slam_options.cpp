@@ -22,7 +22,7 @@ DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   // Depth the keyframes' prediction confirms as static is kept where only the box, ring or
   // temporal rule took it (pf2_synth halfsphere: 74 -> 90 % of the static depth kept, 98.5 ->
   // 98.2 % of the people removed; Bonn crowd 2.96 -> 1.9 cm; docs/BENCHMARKS.md).
-  options.keep_static = true;
+  options.geometric_addition.keep_static = true;
   return options;
 }
 

@@ -20,7 +20,7 @@
 //               with the camera motion and dilated, guard pixels whose depth agrees with them
 //               (boxes that were missed or too small); a pixel is guarded at most temporal_max_age
 //               frames without a box supporting it;
-//   geometric — a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
+//   geometric — (class GeometricAddition) a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
 //               dynamic wherever it has an opinion; a detector's candidate region with enough of
 //               that evidence is removed whole (candidate_min_dynamic).
 #include <memory>
@@ -31,6 +31,7 @@
 
 #include "pf2/core/camera_intrinsics.h"
 #include "pf2/detection/human_detector.h"
+#include "pf2/filters/geometric_addition.h"
 #include "pf2/filters/temporal_guard.h"
 
 namespace pf2 {
@@ -74,20 +75,6 @@ struct HistogramOptions {
 // bins. Thread safe.
 DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi,
                                 const HistogramOptions& options, const cv::Rect& surround = cv::Rect());
-
-// Source of "this depth is dynamic" evidence, e.g. depth that lies in front of what the static map
-// predicts for this view. The map is built later in the pipeline; it implements this interface.
-class DynamicEvidence {
- public:
-  virtual ~DynamicEvidence() = default;
-  // CV_8U image of depth's size, 255 where the pixel is dynamic, 0 where static or unknown.
-  // Called once per filtered frame; NOT required to be thread safe.
-  virtual cv::Mat dynamicMask(const cv::Mat& depth) = 0;
-  // CV_8U image of depth's size, 255 where the pixel is known static (the static scene was seen
-  // there at this depth before), 0 where dynamic or unknown; empty when the source cannot tell.
-  // Called once per filtered frame, after dynamicMask(); NOT required to be thread safe.
-  virtual cv::Mat staticMask(const cv::Mat& /*depth*/) { return cv::Mat(); }
-};
 
 // The simplest evidence: a predicted static depth image for the current view (rendered from a map,
 // or the last static depth moved into this view). Pixels measured more than `margin` metres in
@@ -146,19 +133,7 @@ class DualBBoxFilter {
     bool temporal = false;           // guard with last frame's person pixels (TemporalGuard)
     TemporalGuard::Options temporal_guard;
     bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
-    double candidate_min_dynamic = 0.3;  // with geometric: a detector's candidate region
-                                     // (Detections::candidates) at least this fraction of whose
-                                     // measured pixels are dynamic evidence is a person missed by
-                                     // the detector, and its whole mask (dilated by mask_dilation)
-                                     // is removed: the evidence finds where a person moved, the
-                                     // mask fills in the rest of them. In [0, 1]; 0 = ignored
-    int candidate_memory = 30;       // frames a candidate lying mostly (half its pixels) on last
-                                     // frame's confirmed pixels or detected people stays confirmed
-                                     // without fresh evidence, in [0, 254]
-    bool keep_static = false;        // with geometric: depth the evidence knows as static is kept
-                                     // unless a person's mask or dynamic evidence covers it (the
-                                     // box, ring and temporal rules take static floor and walls
-                                     // next to people)
+    GeometricAddition::Options geometric_addition;  // candidates and static evidence (with geometric)
   };
 
   struct Person {
@@ -186,7 +161,7 @@ class DualBBoxFilter {
   // Needed by the temporal addition (to move last frame's pixels); ignored otherwise.
   void setIntrinsics(const CameraIntrinsics& intrinsics) { intrinsics_ = intrinsics; }
   // Needed by the geometric addition; nullptr switches it off.
-  void setDynamicEvidence(std::shared_ptr<DynamicEvidence> evidence) { evidence_ = std::move(evidence); }
+  void setDynamicEvidence(std::shared_ptr<DynamicEvidence> evidence) { geometric_.setEvidence(std::move(evidence)); }
 
   // Filters one depth image (CV_32F metres; NaN, inf and negatives count as no measurement).
   // T_cur_prev moves points of the previous filtered frame into this one (identity for a still
@@ -203,25 +178,17 @@ class DualBBoxFilter {
   void setOptions(const Options& options) {
     options_ = options;
     temporal_.setOptions(options.temporal_guard);
+    geometric_.setOptions(options.geometric_addition);
   }
 
  private:
-  // The geometric steps of filter() (the .cpp says what each does).
-  cv::Mat geometricEvidence(const cv::Mat& depth);
-  void confirmCandidates(const cv::Mat& depth, const Detections& detections, cv::Mat* dynamic);
-  int candidateAge(const cv::Mat& depth, const cv::Mat& mask, const cv::Mat& dynamic,
-                   const cv::Mat& previous_age) const;
 
   Options options_;
   CameraIntrinsics intrinsics_;
-  std::shared_ptr<DynamicEvidence> evidence_;
   // Working images kept between calls: allocating them anew costs more than filling them.
   cv::Mat depth_, state_, outside_;
   TemporalGuard temporal_;
-  // Geometric addition: per pixel, frames since the confirmed candidate covering it last had
-  // evidence of its own (0 = this frame); kNotConfirmed where no candidate was confirmed.
-  static constexpr int kNotConfirmed = 255;
-  cv::Mat confirmed_age_;
+  GeometricAddition geometric_;
 };
 
 // Integer pixel rectangle of a box scaled by `scale` about its centre, clipped to the image.

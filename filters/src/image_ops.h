@@ -1,5 +1,5 @@
 #pragma once
-// Depth warping shared by the filter's additions (not part of the public interface).
+// Image helpers shared by the filter and its additions (not part of the public interface).
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
@@ -14,6 +14,10 @@ namespace pf2 {
 cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src, const CameraIntrinsics& K,
                            const Eigen::Isometry3d& T_dst_src, const cv::Rect& source_area, cv::Mat* depth_dst,
                            cv::Mat* companion_dst);
+
+// The mask's pixels dilated by `radius` (a disc), as an image of `area`'s size: the mask's
+// bounding box grown by radius, clipped to the image. Empty (and area empty) for an empty mask.
+cv::Mat dilatedOnArea(const cv::Mat& mask, int radius, cv::Rect* area);
 
 // The half-resolution grid of an image (every second pixel and row, rounded up).
 inline cv::Size halfSize(const cv::Size& size) { return cv::Size((size.width + 1) / 2, (size.height + 1) / 2); }

@@ -1,11 +1,32 @@
-#include "depth_warp.h"
+#include "image_ops.h"
 
 #include <algorithm>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
 #include "pf2/filters/dual_bbox_filter.h"
 
 namespace pf2 {
+
+// The mask's pixels dilated by `radius` (a disc), as an image of `area`'s size: the mask's
+// bounding box grown by radius, clipped to the image. Empty (and area empty) for an empty mask.
+cv::Mat dilatedOnArea(const cv::Mat& mask, int radius, cv::Rect* area) {
+  const cv::Rect bounds = cv::boundingRect(mask);
+  if (bounds.empty()) {
+    *area = cv::Rect();
+    return cv::Mat();
+  }
+  const int r = std::max(0, radius);
+  *area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
+          cv::Rect(0, 0, mask.cols, mask.rows);
+  cv::Mat binary = mask(*area) > 0;
+  if (r > 0) {
+    cv::dilate(binary, binary, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)),
+               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED, cv::Scalar(0));
+  }
+  return binary;
+}
 
 cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
                            const CameraIntrinsics& K, const Eigen::Isometry3d& T_dst_src,
