@@ -247,6 +247,42 @@ std::array<Eigen::Vector3d, kBodyJointCount> BodyFitter::posedJoints(const BodyP
   return out;
 }
 
+// What fit() works from: the usable keypoints, the person's mean depth (eq. 2's d_m) and the
+// surface depth around each keypoint (0 = none).
+struct BodyFitter::Observations {
+  std::array<bool, kCocoKeypointCount> use{};
+  bool shoulders = false, hips = false;
+  double mean_depth = 0;
+  std::array<double, kCocoKeypointCount> surface{};
+};
+
+// How the last solver stage ended.
+struct BodyFitter::SolveOutcome {
+  bool failed = false;  // Ceres reported FAILURE
+  std::string message;  // Ceres' summary message
+};
+
+// The solver's parameter blocks: root axis-angle, translation, joints 1..23, shape.
+struct BodyFitter::Variables {
+  std::array<double, 3> root{};
+  std::array<double, 3> translation{};
+  std::array<double, kBodyPoseSize> body{};
+  std::array<double, kShapes> shape{};
+};
+
+namespace {
+
+std::array<double, kBodyPoseSize> relaxedBody() {
+  const std::array<Eigen::Vector3d, kBodyJointCount> relaxed = relaxedPose();
+  std::array<double, kBodyPoseSize> body{};
+  for (int j = 1; j < kBodyJointCount; ++j) {
+    for (int k = 0; k < 3; ++k) body[3 * (j - 1) + k] = relaxed[j][k];
+  }
+  return body;
+}
+
+}  // namespace
+
 BodyFitResult BodyFitter::fit(const BodyFitInput& input, const CameraIntrinsics& K) const {
   if (!(std::isfinite(K.fx) && std::isfinite(K.fy) && std::isfinite(K.cx) && std::isfinite(K.cy) && K.fx > 0 &&
         K.fy > 0)) {
@@ -254,25 +290,55 @@ BodyFitResult BodyFitter::fit(const BodyFitInput& input, const CameraIntrinsics&
   }
   BodyFitResult result;
   for (auto& j : result.joints_c) j.setZero();
-
-  // Usable keypoints.
-  std::array<bool, kCocoKeypointCount> use{};
-  for (int k = 0; k < kCocoKeypointCount; ++k) {
-    use[k] = kCocoToBodyJoint[k].joint >= 0 && usable(input.keypoints[k], options_.min_confidence);
-    result.keypoints_used += use[k];
-  }
-  const bool shoulders = use[5] && use[6], hips = use[11] && use[12];
+  const Observations seen = observe(input, K, &result);
   if (result.keypoints_used < options_.min_keypoints) {
     result.message = "too few keypoints (" + std::to_string(result.keypoints_used) + " usable, need " +
                      std::to_string(options_.min_keypoints) + ")";
     return result;
   }
-  if (!(shoulders || hips)) {
+  if (!(seen.shoulders || seen.hips)) {
     result.message = "neither both shoulders nor both hips seen: nothing to place the body by";
     return result;
   }
+  Variables x;
+  if (input.previous != nullptr) {
+    if (!warmStart(*input.previous, &x)) {
+      result.message = "previous fit is not finite";
+      return result;
+    }
+  } else {
+    x.body = relaxedBody();
+    initialOrientation(input, seen, K, &x);
+    initialPosition(input, seen, K, &x);
+  }
+  const SolveOutcome outcome = solve(input, seen, K, &x, &result);
+  for (int k = 0; k < 3; ++k) result.parameters.pose[0][k] = x.root[k], result.parameters.translation[k] = x.translation[k];
+  for (int j = 1; j < kBodyJointCount; ++j) {
+    for (int k = 0; k < 3; ++k) result.parameters.pose[j][k] = x.body[3 * (j - 1) + k];
+  }
+  result.parameters.shape = Eigen::Map<const Eigen::VectorXd>(x.shape.data(), kShapes);
+  result.joints_c = posedJoints(result.parameters);
+  bool finite = std::isfinite(result.cost);
+  for (const auto& j : result.joints_c) finite = finite && j.allFinite();
+  if (outcome.failed || !finite) {
+    result.message = "solver failed: " + outcome.message;
+    return result;
+  }
+  result.valid = true;
+  return result;
+}
 
-  // The person's points: mean depth (eq. 2's d_m) and the surface depth around each keypoint.
+// The usable keypoints and the person's depth: mean depth (eq. 2's d_m) and the median depth of
+// the points within depth_radius_px of each keypoint. Counts keypoints_used and depth_keypoints.
+BodyFitter::Observations BodyFitter::observe(const BodyFitInput& input, const CameraIntrinsics& K,
+                                             BodyFitResult* result) const {
+  Observations seen;
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    seen.use[k] = kCocoToBodyJoint[k].joint >= 0 && usable(input.keypoints[k], options_.min_confidence);
+    result->keypoints_used += seen.use[k];
+  }
+  seen.shoulders = seen.use[5] && seen.use[6];
+  seen.hips = seen.use[11] && seen.use[12];
   std::vector<Eigen::Vector3d> points;
   points.reserve(input.points_c.size());
   double depth_sum = 0;
@@ -282,199 +348,183 @@ BodyFitResult BodyFitter::fit(const BodyFitInput& input, const CameraIntrinsics&
       depth_sum += p.z();
     }
   }
-  const double mean_depth = points.empty() ? 0.0 : depth_sum / points.size();
-  std::array<double, kCocoKeypointCount> surface{};
-  if (options_.weight_depth > 0 && !points.empty()) {
-    std::array<std::vector<double>, kCocoKeypointCount> near;
-    const double r2 = options_.depth_radius_px * options_.depth_radius_px;
-    for (const Eigen::Vector3d& p : points) {
-      const Eigen::Vector2d px = K.project(p);
-      for (int k = 0; k < kCocoKeypointCount; ++k) {
-        if (!use[k]) continue;
-        const double du = px.x() - input.keypoints[k].u, dv = px.y() - input.keypoints[k].v;
-        if (du * du + dv * dv <= r2) near[k].push_back(p.z());
-      }
-    }
+  seen.mean_depth = points.empty() ? 0.0 : depth_sum / points.size();
+  if (!(options_.weight_depth > 0) || points.empty()) return seen;
+  std::array<std::vector<double>, kCocoKeypointCount> near;
+  const double r2 = options_.depth_radius_px * options_.depth_radius_px;
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector2d px = K.project(p);
     for (int k = 0; k < kCocoKeypointCount; ++k) {
-      if (!near[k].empty()) {
-        surface[k] = median(&near[k]);
-        ++result.depth_keypoints;
-      }
+      if (!seen.use[k]) continue;
+      const double du = px.x() - input.keypoints[k].u, dv = px.y() - input.keypoints[k].v;
+      if (du * du + dv * dv <= r2) near[k].push_back(p.z());
     }
   }
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    if (!near[k].empty()) {
+      seen.surface[k] = median(&near[k]);
+      ++result->depth_keypoints;
+    }
+  }
+  return seen;
+}
 
-  // Parameters: root axis-angle, translation, joints 1..23, shape.
-  std::array<double, 3> root{};
-  std::array<double, 3> translation{};
-  std::array<double, kBodyPoseSize> body{};
-  std::array<double, kShapes> shape{};
-  const std::array<Eigen::Vector3d, kBodyJointCount> relaxed = relaxedPose();
-  std::array<double, kBodyPoseSize> relaxed_body{};
+// Temporal warm start: the previous fit as it was. False when it is not finite.
+bool BodyFitter::warmStart(const BodyParameters& prev, Variables* x) const {
+  for (int k = 0; k < 3; ++k) x->root[k] = prev.pose[0][k], x->translation[k] = prev.translation[k];
   for (int j = 1; j < kBodyJointCount; ++j) {
-    for (int k = 0; k < 3; ++k) relaxed_body[3 * (j - 1) + k] = relaxed[j][k];
+    for (int k = 0; k < 3; ++k) x->body[3 * (j - 1) + k] = prev.pose[j][k];
   }
+  for (int b = 0; b < std::min<int>(kShapes, prev.shape.size()); ++b) x->shape[b] = prev.shape[b];
+  bool finite = true;
+  for (double v : x->root) finite = finite && std::isfinite(v);
+  for (double v : x->translation) finite = finite && std::isfinite(v);
+  for (double v : x->body) finite = finite && std::isfinite(v);
+  for (double v : x->shape) finite = finite && std::isfinite(v);
+  return finite;
+}
 
+// Orientation: upright along up_c (the paper's R_x(180°) when unknown), facing the camera or away
+// from it depending on which side the person's left keypoints appear. With depth at both
+// shoulders or both hips, the lifted left-right vector gives the yaw itself.
+void BodyFitter::initialOrientation(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
+                                    Variables* x) const {
   const auto& kp = input.keypoints;
-  if (input.previous != nullptr) {
-    // Temporal warm start: the previous fit as it was.
-    const BodyParameters& prev = *input.previous;
-    for (int k = 0; k < 3; ++k) root[k] = prev.pose[0][k], translation[k] = prev.translation[k];
-    for (int j = 1; j < kBodyJointCount; ++j) {
-      for (int k = 0; k < 3; ++k) body[3 * (j - 1) + k] = prev.pose[j][k];
+  Eigen::Vector3d up_c = input.up_c;
+  up_c = up_c.allFinite() && up_c.norm() > 1e-6 ? Eigen::Vector3d(up_c.normalized()) : Eigen::Vector3d(0, -1, 0);
+  Eigen::Vector3d across_c = Eigen::Vector3d::Zero();  // right -> left, camera frame
+  double left_minus_right_u = 0;
+  for (const auto& [l, r] : {std::pair<int, int>{5, 6}, std::pair<int, int>{11, 12}}) {
+    if (!(seen.use[l] && seen.use[r])) continue;
+    left_minus_right_u += kp[l].u - kp[r].u;
+    if (seen.surface[l] > 0 && seen.surface[r] > 0) {
+      across_c += K.backProject(kp[l].u, kp[l].v, seen.surface[l]) - K.backProject(kp[r].u, kp[r].v, seen.surface[r]);
     }
-    for (int b = 0; b < std::min<int>(kShapes, prev.shape.size()); ++b) shape[b] = prev.shape[b];
-    bool finite = true;
-    for (double v : root) finite = finite && std::isfinite(v);
-    for (double v : translation) finite = finite && std::isfinite(v);
-    for (double v : body) finite = finite && std::isfinite(v);
-    for (double v : shape) finite = finite && std::isfinite(v);
-    if (!finite) {
-      result.message = "previous fit is not finite";
-      return result;
-    }
-  } else {
-    body = relaxed_body;
-    // Orientation: upright along up_c (the paper's R_x(180°) when unknown), facing the camera or
-    // away from it depending on which side the person's left keypoints appear. With depth at both
-    // shoulders or both hips, the lifted left-right vector gives the yaw itself.
-    Eigen::Vector3d up_c = input.up_c;
-    up_c = up_c.allFinite() && up_c.norm() > 1e-6 ? Eigen::Vector3d(up_c.normalized()) : Eigen::Vector3d(0, -1, 0);
-    Eigen::Vector3d across_c = Eigen::Vector3d::Zero();  // right -> left, camera frame
-    double left_minus_right_u = 0;
-    for (const auto& [l, r] : {std::pair<int, int>{5, 6}, std::pair<int, int>{11, 12}}) {
-      if (!(use[l] && use[r])) continue;
-      left_minus_right_u += kp[l].u - kp[r].u;
-      if (surface[l] > 0 && surface[r] > 0) {
-        across_c += K.backProject(kp[l].u, kp[l].v, surface[l]) - K.backProject(kp[r].u, kp[r].v, surface[r]);
-      }
-    }
-    // Facing the camera, the body's left (+x) appears on the image's right.
-    const Eigen::Vector3d toward_camera(0, 0, -1);
-    Eigen::Vector3d forward_c = left_minus_right_u >= 0 ? toward_camera : Eigen::Vector3d(-toward_camera);
-    across_c -= across_c.dot(up_c) * up_c;
-    if (across_c.norm() > 0.1) forward_c = across_c.normalized().cross(up_c);  // forward = left x up
-    const Eigen::AngleAxisd aa(bodyRotation(up_c, forward_c));
-    const Eigen::Vector3d root_aa = aa.angle() * aa.axis();
-    for (int k = 0; k < 3; ++k) root[k] = root_aa[k];
-
-    // Position (eq. 2): the pelvis at the hips' midpoint (else the centre of the keypoints' box)
-    // at the mean depth d_m of the person's points plus the pelvis' depth below the surface.
-    // Without depth, the distance at which the body's rest torso (shoulders to hips) has the length
-    // seen in the image.
-    double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
-    for (int k = 0; k < kCocoKeypointCount; ++k) {
-      if (!use[k]) continue;
-      u0 = std::min(u0, kp[k].u), u1 = std::max(u1, kp[k].u);
-      v0 = std::min(v0, kp[k].v), v1 = std::max(v1, kp[k].v);
-    }
-    Eigen::Vector2d pelvis_px = hips ? Eigen::Vector2d(0.5 * (kp[11].u + kp[12].u), 0.5 * (kp[11].v + kp[12].v))
-                                     : Eigen::Vector2d(0.5 * (u0 + u1), 0.5 * (v0 + v1));
-    double z = mean_depth > 0 ? mean_depth + jointDepthBelowSurface(1) : 0.0;
-    if (z <= 0) {
-      const Eigen::Vector3d rest_torso = 0.5 * (rest_joints_.segment<3>(3 * 16) + rest_joints_.segment<3>(3 * 17)) -
-                                         0.5 * (rest_joints_.segment<3>(3 * 1) + rest_joints_.segment<3>(3 * 2));
-      if (shoulders && hips) {
-        const double torso_px = std::hypot(0.5 * (kp[5].u + kp[6].u - kp[11].u - kp[12].u),
-                                           0.5 * (kp[5].v + kp[6].v - kp[11].v - kp[12].v));
-        z = K.fy * rest_torso.norm() / std::max(torso_px, 1.0);
-      } else {
-        // One pair only: its width against the body's rest width.
-        const int l = shoulders ? 5 : 11, r = shoulders ? 6 : 12;
-        const double width = (rest_joints_.segment<3>(3 * kCocoToBodyJoint[l].joint) -
-                              rest_joints_.segment<3>(3 * kCocoToBodyJoint[r].joint)).norm();
-        z = K.fx * width / std::max(std::hypot(kp[l].u - kp[r].u, kp[l].v - kp[r].v), 1.0);
-      }
-      z = std::min(std::max(z, 0.3), 20.0);
-    }
-    const Eigen::Vector3d pelvis_c = K.backProject(pelvis_px.x(), pelvis_px.y(), z);
-    for (int k = 0; k < 3; ++k) translation[k] = pelvis_c[k] - rest_joints_[k];
   }
+  // Facing the camera, the body's left (+x) appears on the image's right.
+  const Eigen::Vector3d toward_camera(0, 0, -1);
+  Eigen::Vector3d forward_c = left_minus_right_u >= 0 ? toward_camera : Eigen::Vector3d(-toward_camera);
+  across_c -= across_c.dot(up_c) * up_c;
+  if (across_c.norm() > 0.1) forward_c = across_c.normalized().cross(up_c);  // forward = left x up
+  const Eigen::AngleAxisd aa(bodyRotation(up_c, forward_c));
+  const Eigen::Vector3d root_aa = aa.angle() * aa.axis();
+  for (int k = 0; k < 3; ++k) x->root[k] = root_aa[k];
+}
 
-  // The data term with this person's keypoints; `torso_only` keeps head, shoulders and hips (the
-  // first stage, where arms and legs are still at their initial pose).
-  auto makeData = [&](bool torso_only) {
-    auto* term = new DataTerm{&rest_joints_, &joint_shapedirs_, {}, K.fx, K.fy, K.cx, K.cy, options_.depth_delta};
-    for (int k = 0; k < kCocoKeypointCount; ++k) {
-      if (!use[k]) continue;
-      const int joint = kCocoToBodyJoint[k].joint;
-      if (torso_only && !(joint == 15 || joint == 16 || joint == 17 || joint == 1 || joint == 2)) continue;
-      DataTerm::Keypoint& t = term->keypoints[k];
-      t.joint = joint;
-      t.u = kp[k].u;
-      t.v = kp[k].v;
-      t.weight_2d = options_.weight_2d * std::sqrt(std::min(1.0, kp[k].confidence) * kCocoToBodyJoint[k].weight);
-      if (surface[k] > 0) {
-        t.depth = surface[k] + jointDepthBelowSurface(joint);
-        t.weight_depth = options_.weight_depth * std::sqrt(kCocoToBodyJoint[k].weight);
-      }
+// Position (eq. 2): the pelvis at the hips' midpoint (else the centre of the keypoints' box) at the
+// mean depth d_m of the person's points plus the pelvis' depth below the surface. Without depth,
+// the distance at which the body's rest torso (shoulders to hips) has the length seen in the image.
+void BodyFitter::initialPosition(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
+                                 Variables* x) const {
+  const auto& kp = input.keypoints;
+  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    if (!seen.use[k]) continue;
+    u0 = std::min(u0, kp[k].u), u1 = std::max(u1, kp[k].u);
+    v0 = std::min(v0, kp[k].v), v1 = std::max(v1, kp[k].v);
+  }
+  const Eigen::Vector2d pelvis_px = seen.hips ? Eigen::Vector2d(0.5 * (kp[11].u + kp[12].u), 0.5 * (kp[11].v + kp[12].v))
+                                              : Eigen::Vector2d(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+  double z = seen.mean_depth > 0 ? seen.mean_depth + jointDepthBelowSurface(1) : 0.0;
+  if (z <= 0) {
+    const Eigen::Vector3d rest_torso = 0.5 * (rest_joints_.segment<3>(3 * 16) + rest_joints_.segment<3>(3 * 17)) -
+                                       0.5 * (rest_joints_.segment<3>(3 * 1) + rest_joints_.segment<3>(3 * 2));
+    if (seen.shoulders && seen.hips) {
+      const double torso_px = std::hypot(0.5 * (kp[5].u + kp[6].u - kp[11].u - kp[12].u),
+                                         0.5 * (kp[5].v + kp[6].v - kp[11].v - kp[12].v));
+      z = K.fy * rest_torso.norm() / std::max(torso_px, 1.0);
+    } else {
+      // One pair only: its width against the body's rest width.
+      const int l = seen.shoulders ? 5 : 11, r = seen.shoulders ? 6 : 12;
+      const double width = (rest_joints_.segment<3>(3 * kCocoToBodyJoint[l].joint) -
+                            rest_joints_.segment<3>(3 * kCocoToBodyJoint[r].joint)).norm();
+      z = K.fx * width / std::max(std::hypot(kp[l].u - kp[r].u, kp[l].v - kp[r].v), 1.0);
     }
-    return new ceres::AutoDiffCostFunction<DataTerm, kResidualsData, 3, 3, kBodyPoseSize, kShapes>(term);
-  };
+    z = std::min(std::max(z, 0.3), 20.0);
+  }
+  const Eigen::Vector3d pelvis_c = K.backProject(pelvis_px.x(), pelvis_px.y(), z);
+  for (int k = 0; k < 3; ++k) x->translation[k] = pelvis_c[k] - rest_joints_[k];
+}
 
+// The data term with this person's keypoints; `torso_only` keeps head, shoulders and hips (the
+// first stage, where arms and legs are still at their initial pose).
+ceres::CostFunction* BodyFitter::dataTerm(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
+                                          bool torso_only) const {
+  auto* term = new DataTerm{&rest_joints_, &joint_shapedirs_, {}, K.fx, K.fy, K.cx, K.cy, options_.depth_delta};
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    if (!seen.use[k]) continue;
+    const int joint = kCocoToBodyJoint[k].joint;
+    if (torso_only && !(joint == 15 || joint == 16 || joint == 17 || joint == 1 || joint == 2)) continue;
+    DataTerm::Keypoint& t = term->keypoints[k];
+    t.joint = joint;
+    t.u = input.keypoints[k].u;
+    t.v = input.keypoints[k].v;
+    t.weight_2d = options_.weight_2d * std::sqrt(std::min(1.0, input.keypoints[k].confidence) * kCocoToBodyJoint[k].weight);
+    if (seen.surface[k] > 0) {
+      t.depth = seen.surface[k] + jointDepthBelowSurface(joint);
+      t.weight_depth = options_.weight_depth * std::sqrt(kCocoToBodyJoint[k].weight);
+    }
+  }
+  return new ceres::AutoDiffCostFunction<DataTerm, kResidualsData, 3, 3, kBodyPoseSize, kShapes>(term);
+}
+
+// Stage 1 (without a previous fit): root rotation and translation on the torso keypoints; stage 2:
+// everything, with the priors. Adds the iterations and costs to result; returns how stage 2 ended.
+BodyFitter::SolveOutcome BodyFitter::solve(const BodyFitInput& input, const Observations& seen,
+                                           const CameraIntrinsics& K, Variables* x, BodyFitResult* result) const {
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.logging_type = ceres::SILENT;
   solver.num_threads = 1;
-
-  // Stage 1: root only (rotation and translation) on the torso keypoints.
   if (options_.stage1_iterations > 0 && input.previous == nullptr) {
     ceres::Problem problem;
-    problem.AddResidualBlock(makeData(true), nullptr, root.data(), translation.data(), body.data(), shape.data());
-    problem.SetParameterBlockConstant(body.data());
-    problem.SetParameterBlockConstant(shape.data());
+    problem.AddResidualBlock(dataTerm(input, seen, K, true), nullptr, x->root.data(), x->translation.data(),
+                             x->body.data(), x->shape.data());
+    problem.SetParameterBlockConstant(x->body.data());
+    problem.SetParameterBlockConstant(x->shape.data());
     solver.max_num_iterations = options_.stage1_iterations;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
-    result.iterations += static_cast<int>(summary.iterations.size()) - 1;
+    result->iterations += static_cast<int>(summary.iterations.size()) - 1;
   }
-
-  // Stage 2: everything, with the priors.
   ceres::Problem problem;
-  problem.AddResidualBlock(makeData(false), nullptr, root.data(), translation.data(), body.data(), shape.data());
+  problem.AddResidualBlock(dataTerm(input, seen, K, false), nullptr, x->root.data(), x->translation.data(),
+                           x->body.data(), x->shape.data());
+  addPriors(input, x, &problem);
+  solver.max_num_iterations = options_.max_iterations;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  result->iterations += static_cast<int>(summary.iterations.size()) - 1;
+  result->initial_cost = summary.initial_cost;
+  result->cost = summary.final_cost;
+  return {summary.termination_type == ceres::FAILURE, summary.message};
+}
+
+// Stage 2's priors: pose (and joint limits), shape, and the temporal term with a previous fit.
+void BodyFitter::addPriors(const BodyFitInput& input, Variables* x, ceres::Problem* problem) const {
   if (options_.weight_pose > 0 || options_.weight_limits > 0) {
-    auto* prior = new PosePrior{relaxed_body, {}, options_.weight_limits};
+    auto* prior = new PosePrior{relaxedBody(), {}, options_.weight_limits};
     for (int j = 1; j < kBodyJointCount; ++j) {
       // Joints no COCO keypoint observes (spine, neck, collars, feet, hands) are held closer.
       const bool unseen = j == 3 || j == 6 || j == 9 || j == 12 || j == 13 || j == 14 || j == 10 || j == 11 ||
                           j == 22 || j == 23;
       for (int k = 0; k < 3; ++k) prior->scale[3 * (j - 1) + k] = options_.weight_pose * (unseen ? 3.0 : 1.0);
     }
-    problem.AddResidualBlock(
+    problem->AddResidualBlock(
         new ceres::AutoDiffCostFunction<PosePrior, kBodyPoseSize + kLimitResiduals, kBodyPoseSize>(prior), nullptr,
-        body.data());
+        x->body.data());
   }
   if (options_.weight_shape > 0) {
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ShapePrior, kShapes, kShapes>(
-                                 new ShapePrior{options_.weight_shape}),
-                             nullptr, shape.data());
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<ShapePrior, kShapes, kShapes>(
+                                  new ShapePrior{options_.weight_shape}),
+                              nullptr, x->shape.data());
   }
   if (input.previous != nullptr && options_.weight_temporal > 0) {
-    auto* temporal = new TemporalTerm{body, options_.weight_temporal};
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TemporalTerm, kBodyPoseSize, kBodyPoseSize>(temporal),
-                             nullptr, body.data());
+    auto* temporal = new TemporalTerm{x->body, options_.weight_temporal};
+    problem->AddResidualBlock(new ceres::AutoDiffCostFunction<TemporalTerm, kBodyPoseSize, kBodyPoseSize>(temporal),
+                              nullptr, x->body.data());
   }
-  if (!options_.fit_shape) problem.SetParameterBlockConstant(shape.data());
-  solver.max_num_iterations = options_.max_iterations;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  result.iterations += static_cast<int>(summary.iterations.size()) - 1;
-  result.initial_cost = summary.initial_cost;
-  result.cost = summary.final_cost;
-
-  for (int k = 0; k < 3; ++k) result.parameters.pose[0][k] = root[k], result.parameters.translation[k] = translation[k];
-  for (int j = 1; j < kBodyJointCount; ++j) {
-    for (int k = 0; k < 3; ++k) result.parameters.pose[j][k] = body[3 * (j - 1) + k];
-  }
-  result.parameters.shape = Eigen::Map<const Eigen::VectorXd>(shape.data(), kShapes);
-  result.joints_c = posedJoints(result.parameters);
-  bool finite = std::isfinite(result.cost);
-  for (const auto& j : result.joints_c) finite = finite && j.allFinite();
-  if (summary.termination_type == ceres::FAILURE || !finite) {
-    result.message = "solver failed: " + summary.message;
-    return result;
-  }
-  result.valid = true;
-  return result;
+  if (!options_.fit_shape) problem->SetParameterBlockConstant(x->shape.data());
 }
 
 std::vector<Eigen::Vector3d> depthPointsFromImage(const cv::Mat& depth, const CameraIntrinsics& intrinsics,

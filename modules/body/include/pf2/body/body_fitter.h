@@ -14,6 +14,11 @@
 #include "pf2/body/body_model.h"
 #include "pf2/core/camera_intrinsics.h"
 
+namespace ceres {
+class CostFunction;
+class Problem;
+}  // namespace ceres
+
 namespace pf2 {
 
 constexpr int kCocoKeypointCount = 17;
@@ -115,6 +120,22 @@ class BodyFitter {
   const Options& options() const { return options_; }
 
  private:
+  // The steps of fit() (the .cpp says what each does); ceres types stay out of this header.
+  struct Observations;
+  struct Variables;
+  Observations observe(const BodyFitInput& input, const CameraIntrinsics& K, BodyFitResult* result) const;
+  bool warmStart(const BodyParameters& previous, Variables* x) const;
+  void initialOrientation(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
+                          Variables* x) const;
+  void initialPosition(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
+                       Variables* x) const;
+  ceres::CostFunction* dataTerm(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
+                                bool torso_only) const;
+  struct SolveOutcome;
+  SolveOutcome solve(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K, Variables* x,
+                     BodyFitResult* result) const;
+  void addPriors(const BodyFitInput& input, Variables* x, ceres::Problem* problem) const;
+
   const BodyModel& model_;
   Options options_;
   // Rest joints are linear in the shape: J(beta) = rest_joints_ + joint_shapedirs_ * beta.
