@@ -478,6 +478,16 @@ void collectPeople(const cv::Mat& depth, const cv::Mat& state, const std::vector
 
 }  // namespace
 
+const CameraIntrinsics& DualBBoxFilter::temporalIntrinsics(const cv::Mat& depth) const {
+  if (!intrinsics_) throw Error("DualBBoxFilter: the temporal addition needs the camera intrinsics (setIntrinsics)");
+  if (intrinsics_->width != depth.cols || intrinsics_->height != depth.rows) {
+    throw Error("DualBBoxFilter: intrinsics of " + std::to_string(intrinsics_->width) + "x" +
+                std::to_string(intrinsics_->height) + " for a depth image of " + std::to_string(depth.cols) + "x" +
+                std::to_string(depth.rows));
+  }
+  return *intrinsics_;
+}
+
 // Algorithm 1 (scene separation, the ring, the outputs) with the additions, step by step.
 DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Detections& detections,
                                               const Eigen::Isometry3d& T_cur_prev) {
@@ -500,7 +510,8 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   }
   const std::vector<cv::Rect> areas = labelPeople(depth, boxes, intervals, second_intervals, human_margin, state_);
   removeRingOutliers(depth, boxes, result.background, o.background_margin, outside_, state_);
-  const cv::Rect guarded_area = o.temporal ? temporal_.guard(depth, intrinsics_, T_cur_prev, state_) : cv::Rect();
+  const cv::Rect guarded_area = o.temporal ? temporal_.guard(depth, temporalIntrinsics(depth), T_cur_prev, state_)
+                                           : cv::Rect();
   const cv::Mat dynamic =
       o.geometric ? geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation) : cv::Mat();
   if (!dynamic.empty()) keepKnownStatic(geometric_.knownStatic(depth, dynamic), boxes, state_);

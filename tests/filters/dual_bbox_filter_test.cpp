@@ -443,6 +443,20 @@ TEST(DualBBoxFilter, KeepStaticGivesBackWhatOnlyTheRulesRemoved) {
   EXPECT_EQ(keeping.filter(scene.depth, detections({p})).static_depth.at<float>(27, 20), 0.f);
 }
 
+// The temporal addition moves pixels with the camera's intrinsics: none given, or of another
+// size than the depth, is an error, not a silent default camera.
+TEST(DualBBoxFilter, TemporalAdditionNeedsTheFramesIntrinsics) {
+  const Scene scene;
+  DualBBoxFilter::Options o = testOptions();
+  o.temporal = true;
+  DualBBoxFilter filter(o);
+  EXPECT_THROW(filter.filter(scene.depth, detections({person(14, 9, 26, 26)})), Error);
+  filter.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 64, 48});
+  EXPECT_THROW(filter.filter(scene.depth, detections({person(14, 9, 26, 26)})), Error);
+  filter.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
+  EXPECT_NO_THROW(filter.filter(scene.depth, detections({person(14, 9, 26, 26)})));
+}
+
 TEST(WarpDepth, IdentityAndTranslation) {
   cv::Mat depth = cv::Mat::zeros(30, 40, CV_32F);
   depth.at<float>(15, 20) = 2.f;

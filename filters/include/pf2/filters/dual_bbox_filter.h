@@ -24,6 +24,7 @@
 //               dynamic wherever it has an opinion; a detector's candidate region with enough of
 //               that evidence is removed whole (candidate_min_dynamic).
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -158,7 +159,8 @@ class DualBBoxFilter {
   DualBBoxFilter() : DualBBoxFilter(Options()) {}
   explicit DualBBoxFilter(const Options& options);
 
-  // Needed by the temporal addition (to move last frame's pixels); ignored otherwise.
+  // Needed by the temporal addition (to move last frame's pixels), of the depth images' size:
+  // filter() throws without it when the temporal addition is on (no silent default camera).
   void setIntrinsics(const CameraIntrinsics& intrinsics) { intrinsics_ = intrinsics; }
   // Needed by the geometric addition; nullptr switches it off.
   void setDynamicEvidence(std::shared_ptr<DynamicEvidence> evidence) { geometric_.setEvidence(std::move(evidence)); }
@@ -183,8 +185,10 @@ class DualBBoxFilter {
 
  private:
 
+  const CameraIntrinsics& temporalIntrinsics(const cv::Mat& depth) const;
+
   Options options_;
-  CameraIntrinsics intrinsics_;
+  std::optional<CameraIntrinsics> intrinsics_;
   // Working images kept between calls: allocating them anew costs more than filling them.
   cv::Mat depth_, state_, outside_;
   TemporalGuard temporal_;
