@@ -1,7 +1,9 @@
 // writeSlamResult: a run's result folder (declared in slam_system.h).
+#include <filesystem>
 #include <sstream>
 
 #include "pf2/core/atomic_file.h"
+#include "pf2/core/error.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/slam/slam_system.h"
 
@@ -35,17 +37,43 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
   return out.str();
 }
 
-}  // namespace
-
-void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages) {
-  writeTrajectory(out_dir + "/trajectory.txt", result.trajectory);
-  if (result.has_humans) writeHumanTracks(out_dir + "/humans.txt", result.humans);
+// The files of one result, into `dir`.
+void writeFiles(const std::string& dir, const SlamResult& result, StageStats* stages) {
+  writeTrajectory(dir + "/trajectory.txt", result.trajectory);
+  if (result.has_humans) writeHumanTracks(dir + "/humans.txt", result.humans);
   if (result.map) {
     ScopedStageTimer timer(stages, "map_export");
-    result.map->exportMap(out_dir, result.map_files);
+    result.map->exportMap(dir, result.map_files);
   }
   const std::string json = summaryJson(result, *stages);
-  writeFileAtomically(out_dir + "/stats.json", [&](std::ostream& out) { out << json; });
+  writeFileAtomically(dir + "/stats.json", [&](std::ostream& out) { out << json; });
+}
+
+}  // namespace
+
+// The files are written into a staging folder inside out_dir and moved into place only when all
+// of them were written: a failure (a full disk during the map export) leaves out_dir as it was.
+void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages) {
+  namespace fs = std::filesystem;
+  const fs::path staging = fs::path(out_dir) / ".pf2_result.partial";
+  std::error_code ignored;
+  fs::remove_all(staging, ignored);
+  if (!fs::create_directories(staging, ignored) && !fs::is_directory(staging)) {
+    throw fileError(staging.string(), "cannot create the staging folder for the outputs");
+  }
+  try {
+    writeFiles(staging.string(), result, stages);
+    for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
+      fs::rename(entry.path(), fs::path(out_dir) / entry.path().filename());
+    }
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(staging, ignored);
+    throw fileError(out_dir, std::string("cannot write the outputs: ") + e.what());
+  } catch (...) {
+    fs::remove_all(staging, ignored);
+    throw;
+  }
+  fs::remove_all(staging, ignored);
 }
 
 }  // namespace pf2

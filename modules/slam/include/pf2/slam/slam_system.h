@@ -126,8 +126,9 @@ std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, co
 
 // Saves a result folder: trajectory.txt, humans.txt (with has_humans), the map files (with a map;
 // their export time goes into `stages` as "map_export"), then stats.json (summary, `stages`, the
-// tracker's sub-stages, each frame's status). Each file is written atomically. Throws pf2::Error
-// naming the file.
+// tracker's sub-stages, each frame's status). The files appear as a set: written into a staging
+// folder in out_dir and moved into place once all were written; on failure out_dir keeps what it
+// had. Throws pf2::Error naming the file.
 void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages);
 
 }  // namespace pf2
