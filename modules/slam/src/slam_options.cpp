@@ -128,6 +128,8 @@ void humanSettings(SlamOptions& o, Settings& s) {
 void mapSettings(SlamOptions& o, Settings& s) {
   Mapper::Options& m = o.mapper;
   s.boolean("map.build", &o.build_map, "fuse the map (TSDF and OctoMap)");
+  s.boolean("map.synchronous", &o.synchronous_map,
+            "fuse in the front end's thread: the same map on every run (with tracker.asynchronous_backend false), slower");
   s.integer("map.fuse_every", &o.fuse_every, 0, 1000, "frames",
             "also fuse every n-th tracked frame between keyframes (0 = keyframes only)");
   s.number("map.voxel_size", &m.tsdf.voxel_size, 0.002, 0.2, "metres", "TSDF voxel edge");

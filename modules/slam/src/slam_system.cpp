@@ -199,10 +199,20 @@ class FrameLoader {
 // graph's corrections. Only that thread touches the Mapper until stop().
 class MappingThread {
  public:
-  MappingThread(Mapper* mapper, const KeyframeMap* keyframes, StageStats* stats)
-      : mapper_(mapper), keyframes_(keyframes), stats_(stats), thread_([this] { fuse(); }) {}
+  // synchronous: no thread of its own; push() fuses at once in the caller's thread, so the map does
+  // not depend on how the threads were scheduled (the same map on every run; slower).
+  MappingThread(Mapper* mapper, const KeyframeMap* keyframes, StageStats* stats, bool synchronous)
+      : mapper_(mapper), keyframes_(keyframes), stats_(stats), synchronous_(synchronous) {
+    if (!synchronous_) thread_ = std::thread([this] { fuse(); });
+  }
   ~MappingThread() { stop(); }
-  void push(FusionJob job) { jobs_.push(std::move(job)); }
+  void push(FusionJob job) {
+    if (synchronous_) {
+      fuseOne(job);
+    } else {
+      jobs_.push(std::move(job));
+    }
+  }
   // Waits for the queue to drain; rethrows the mapper's error, if any.
   void finish() {
     stop();
@@ -219,30 +229,34 @@ class MappingThread {
 
  private:
   void fuse() {
-    uint64_t revision_seen = 0;
     try {
-      while (auto job = jobs_.pop()) {
-        ScopedStageTimer timer(stats_, "map");
-        anchors_[job->id] = {job->keyframe_id, job->T_k_c};
-        mapper_->addKeyframe(job->id, job->static_depth, job->rgb, job->K, job->T_w_c);
-        const uint64_t revision = keyframes_->revision();
-        if (revision != revision_seen) {
-          revision_seen = revision;
-          moveTo(keyframes_->poses());
-        }
-      }
+      while (auto job = jobs_.pop()) fuseOne(*job);
     } catch (...) {
       error_ = std::current_exception();
       while (jobs_.pop()) {
       }
     }
   }
+  // One frame into the map; then, if the pose graph moved keyframes since, everything fused so far
+  // follows them.
+  void fuseOne(const FusionJob& job) {
+    ScopedStageTimer timer(stats_, "map");
+    anchors_[job.id] = {job.keyframe_id, job.T_k_c};
+    mapper_->addKeyframe(job.id, job.static_depth, job.rgb, job.K, job.T_w_c);
+    const uint64_t revision = keyframes_->revision();
+    if (revision != revision_seen_) {
+      revision_seen_ = revision;
+      moveTo(keyframes_->poses());
+    }
+  }
 
   Mapper* mapper_;
   const KeyframeMap* keyframes_;
   StageStats* stats_;
+  const bool synchronous_;
   WorkQueue<FusionJob> jobs_{64};
   std::map<int, std::pair<int, Eigen::Isometry3d>> anchors_;  // fused id -> (keyframe id, T_k_c)
+  uint64_t revision_seen_ = 0;
   std::exception_ptr error_;
   std::thread thread_;
 };
@@ -261,7 +275,9 @@ class SlamSystem::Pipeline {
         mapper_(std::make_shared<Mapper>(options.mapper)),
         humans_(options.humans),
         track_humans_(options.track_humans && removal_ != nullptr) {
-    if (options.build_map) mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats);
+    if (options.build_map) {
+      mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats, options.synchronous_map);
+    }
     summary_.detector = removal_ ? removal_->detector().name() : "none";
   }
   ~Pipeline() { stopThreads(); }
