@@ -224,22 +224,34 @@ DepthInterval principalInterval(const cv::Mat& depth, const cv::Mat& mask, const
   return interval;
 }
 
+namespace {
+
+// CV_8U image of depth's size, 255 where both depth and prediction are measured and
+// test(depth, predicted) holds. Bitwise & (no branches) so that the loop vectorises; NaN compares
+// false, so it never passes.
+template <typename Test>
+cv::Mat compareWithPrediction(const cv::Mat& depth, const cv::Mat& prediction, Test test) {
+  cv::Mat mask(depth.size(), CV_8U);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const float* p = prediction.ptr<float>(v);
+    uint8_t* m = mask.ptr<uint8_t>(v);
+    for (int u = 0, u_end = depth.cols; u < u_end; ++u) {
+      m[u] = static_cast<uint8_t>(-static_cast<int>((p[u] > 0.f) & (d[u] > 0.f) & test(d[u], p[u])));
+    }
+  }
+  return mask;
+}
+
+}  // namespace
+
 cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
   if (prediction_.empty()) return cv::Mat::zeros(depth.size(), CV_8U);
   if (prediction_.size() != depth.size() || prediction_.type() != CV_32F) {
     throw Error("PredictedDepthEvidence: prediction is not a CV_32F image of the depth's size");
   }
-  cv::Mat mask(depth.size(), CV_8U);
   const float margin = static_cast<float>(margin_);
-  for (int v = 0; v < depth.rows; ++v) {
-    const float* d = depth.ptr<float>(v);
-    const float* p = prediction_.ptr<float>(v);
-    uint8_t* m = mask.ptr<uint8_t>(v);
-    // Bitwise & (no branches) so that it vectorises; NaN compares false, so it is never dynamic.
-    for (int u = 0, u_end = depth.cols; u < u_end; ++u) {
-      m[u] = static_cast<uint8_t>(-static_cast<int>((p[u] > 0.f) & (d[u] > 0.f) & (d[u] < p[u] - margin)));
-    }
-  }
+  cv::Mat mask = compareWithPrediction(depth, prediction_, [margin](float d, float p) { return d < p - margin; });
   if (opening_radius_ > 0) {
     const int size = 2 * opening_radius_ + 1;
     cv::morphologyEx(mask, mask, cv::MORPH_OPEN,
@@ -250,18 +262,9 @@ cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
 
 cv::Mat PredictedDepthEvidence::staticMask(const cv::Mat& depth) {
   if (prediction_.empty() || !(static_margin_ > 0.0)) return cv::Mat();
-  cv::Mat mask(depth.size(), CV_8U);
   const float margin = static_cast<float>(static_margin_);
-  for (int v = 0; v < depth.rows; ++v) {
-    const float* d = depth.ptr<float>(v);
-    const float* p = prediction_.ptr<float>(v);
-    uint8_t* m = mask.ptr<uint8_t>(v);
-    for (int u = 0, u_end = depth.cols; u < u_end; ++u) {
-      m[u] = static_cast<uint8_t>(
-          -static_cast<int>((p[u] > 0.f) & (d[u] > 0.f) & (std::fabs(d[u] - p[u]) < margin + 0.01f * d[u])));
-    }
-  }
-  return mask;
+  return compareWithPrediction(depth, prediction_,
+                               [margin](float d, float p) { return std::fabs(d - p) < margin + 0.01f * d; });
 }
 
 cv::Mat DualBBoxFilter::Person::fullDepth(const cv::Size& image) const {

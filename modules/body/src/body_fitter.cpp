@@ -272,12 +272,17 @@ struct BodyFitter::Variables {
 
 namespace {
 
-std::array<double, kBodyPoseSize> relaxedBody() {
-  const std::array<Eigen::Vector3d, kBodyJointCount> relaxed = relaxedPose();
-  std::array<double, kBodyPoseSize> body{};
-  for (int j = 1; j < kBodyJointCount; ++j) {
-    for (int k = 0; k < 3; ++k) body[3 * (j - 1) + k] = relaxed[j][k];
-  }
+// The relaxed pose of joints 1..23 as one parameter block (the initial pose and the pose prior's
+// mean), computed once.
+const std::array<double, kBodyPoseSize>& relaxedBody() {
+  static const std::array<double, kBodyPoseSize> body = [] {
+    const std::array<Eigen::Vector3d, kBodyJointCount> relaxed = relaxedPose();
+    std::array<double, kBodyPoseSize> b{};
+    for (int j = 1; j < kBodyJointCount; ++j) {
+      for (int k = 0; k < 3; ++k) b[3 * (j - 1) + k] = relaxed[j][k];
+    }
+    return b;
+  }();
   return body;
 }
 

@@ -304,13 +304,14 @@ class SlamSystem::Pipeline {
       }
       FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
                          Eigen::Isometry3d::Identity(), {}};
-      if (track_humans_) placePeople(frame, detections, filtered, result, &record);
+      std::vector<FrameResult::Person> people;
+      if (track_humans_) people = placePeople(frame, detections, filtered, result, &record);
       count(result, &record);
       // A bridged pose is the motion prior's guess: good enough to place people for a moment,
       // not to fuse depth into the map.
       if (mapping_ && record.has_pose && result.status != TrackStatus::kBridged)
         feedMap(frame, static_frame.depth, result, summary_.frames);
-      out = frameResult(frame, static_frame.depth, filtered.removed, result, record);
+      out = frameResult(frame, static_frame.depth, filtered.removed, result, record, std::move(people));
       records_.push_back(std::move(record));
       ++summary_.frames;
     }
@@ -402,8 +403,10 @@ class SlamSystem::Pipeline {
 
   // Eq. 2-3 after tracking, so the tracker waits for nothing. Associated with this frame's pose as
   // tracked now; a frame without a pose counts as one where nobody was seen (tracks age).
-  void placePeople(const Frame& frame, const Detections& detections, const DualBBoxFilter::Result& filtered,
-                   const TrackResult& result, FrameRecord* record) {
+  // Returns the people with their ids and both positions, for the frame's result.
+  std::vector<FrameResult::Person> placePeople(const Frame& frame, const Detections& detections,
+                                               const DualBBoxFilter::Result& filtered, const TrackResult& result,
+                                               FrameRecord* record) {
     ScopedStageTimer timer(stats_, "humans");
     const std::vector<Eigen::Vector3d> people_c =
         personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
@@ -413,11 +416,17 @@ class SlamSystem::Pipeline {
       for (const Eigen::Vector3d& p_c : people_c) people_w.push_back(humanCentreInWorld(result.T_w_c, p_c));
     }
     const std::vector<int> ids = humans_.update(frame.timestamp, people_w);
-    for (size_t k = 0; k < ids.size(); ++k) record->people_c.emplace_back(ids[k], people_c[k]);
+    std::vector<FrameResult::Person> people;
+    for (size_t k = 0; k < ids.size(); ++k) {
+      record->people_c.emplace_back(ids[k], people_c[k]);
+      people.push_back({ids[k], people_c[k], record->has_pose ? people_w[k] : people_c[k]});
+    }
+    return people;
   }
 
   FrameResult frameResult(const Frame& frame, const cv::Mat& static_depth, const cv::Mat& removed,
-                          const TrackResult& result, const FrameRecord& record) const {
+                          const TrackResult& result, const FrameRecord& record,
+                          std::vector<FrameResult::Person> people) const {
     FrameResult out;
     out.timestamp = frame.timestamp;
     out.status = result.status;
@@ -425,8 +434,7 @@ class SlamSystem::Pipeline {
     if (record.has_pose) out.T_w_c = result.T_w_c;
     out.static_depth = static_depth;
     out.removed = removed;
-    for (const auto& [id, p_c] : record.people_c)
-      out.people.push_back({id, p_c, record.has_pose ? humanCentreInWorld(result.T_w_c, p_c) : p_c});
+    out.people = std::move(people);
     return out;
   }
 
