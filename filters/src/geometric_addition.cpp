@@ -38,9 +38,10 @@ void GeometricAddition::confirmCandidates(const cv::Mat& depth, const Detections
   if (confirmed_age_.size() != depth.size()) confirmed_age_ = cv::Mat(depth.size(), CV_8U, cv::Scalar(kNotConfirmed));
   // The detector's people count as confirmed too: a person it loses for a few frames (too close,
   // cut by the border) comes back as a candidate on the same pixels.
-  cv::Mat next_age(depth.size(), CV_8U, cv::Scalar(kNotConfirmed));
+  next_age_.create(depth.size(), CV_8U);  // reused from frame to frame, like the filter's working images
+  next_age_.setTo(kNotConfirmed);
   for (const PersonDetection& person : detections.people) {
-    if (person.score > min_confidence && person.mask.size() == depth.size()) next_age.setTo(0, person.mask);
+    if (person.score > min_confidence && person.mask.size() == depth.size()) next_age_.setTo(0, person.mask);
   }
   for (const PersonDetection& candidate : detections.candidates) {
     if (candidate.mask.empty()) continue;
@@ -55,10 +56,10 @@ void GeometricAddition::confirmCandidates(const cv::Mat& depth, const Detections
     (*dynamic)(area).setTo(255, grown);
     cv::Mat ages(area.size(), CV_8U, cv::Scalar(kNotConfirmed));
     ages.setTo(age, grown);
-    cv::Mat target = next_age(area);
+    cv::Mat target = next_age_(area);
     cv::min(target, ages, target);
   }
-  confirmed_age_ = next_age;
+  cv::swap(confirmed_age_, next_age_);
 }
 
 // 0 with fresh evidence, 1 + the youngest age under it when carried, else kNotConfirmed.

@@ -75,6 +75,7 @@ class GeometricAddition {
   // (0 = this frame); kNotConfirmed where no candidate was confirmed.
   static constexpr int kNotConfirmed = 255;
   cv::Mat confirmed_age_;
+  cv::Mat next_age_;  // working image: this frame's ages, swapped into confirmed_age_
 };
 
 }  // namespace pf2
