@@ -1,5 +1,6 @@
 // pf2_body: the SMPL-compatible body model on the command line — build the default model from
 // the MPFB2 data, print a model's summary, export a posed mesh as PLY/OBJ.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -10,8 +11,10 @@
 #include "pf2/body/body_model.h"
 #include "pf2/body/mpfb2_converter.h"
 #include "pf2/body/npy.h"
+#include "pf2/core/app_settings.h"
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
+#include "pf2/core/settings.h"
 
 namespace {
 
@@ -32,9 +35,20 @@ const char* kUsage =
     "Common options:\n"
     "  --model M.npz                   SMPL-format model (default: $PF2_BODY_MODEL or the shipped one)\n"
     "  -h, --help                      this text\n"
-    "Exit status: 0 on success, 1 on bad input (the error line names the file).\n";
+    "--samples, --seed, --shape, --pose and --translation are the settings convert.samples,\n"
+    "convert.seed, mesh.shape, mesh.pose and mesh.translation:\n";
+const char* kExitStatus = "Exit status: 0 on success, 1 on bad input (the error line names the file).\n";
 
-std::vector<double> parseList(const std::string& option, const std::string& text) {
+// pf2_body's settings, declared once: --config, --set and the options below read them.
+struct BodySettings {
+  pf2::Mpfb2Converter::Options convert;
+  std::vector<double> shape;             // empty: all coefficients 0
+  std::string pose = "rest";
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+};
+
+// Comma-separated finite numbers, each within [-limit, limit].
+std::vector<double> parseList(const std::string& text, double limit) {
   std::vector<double> values;
   std::stringstream s(text);
   std::string item;
@@ -46,10 +60,42 @@ std::vector<double> parseList(const std::string& option, const std::string& text
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != item.size()) throw pf2::Error(option + ": bad number '" + item + "'");
+    if (used == 0 || used != item.size() || !std::isfinite(value)) {
+      throw pf2::Error("bad number '" + item + "'");
+    }
+    if (std::abs(value) > limit) throw pf2::Error("number " + item + " outside [-" + std::to_string(limit) + ", " + std::to_string(limit) + "]");
     values.push_back(value);
   }
   return values;
+}
+
+std::string listText(const double* values, size_t count) {
+  std::string text;
+  for (size_t i = 0; i < count; ++i) text += (i ? "," : "") + std::to_string(values[i]);
+  return text;
+}
+
+pf2::Settings declareBodySettings(BodySettings* b) {
+  pf2::Settings s;
+  s.integer("convert.samples", &b->convert.sample_count, 10, 100000, "settings",
+            "random slider settings sampled for the shape PCA");
+  s.seed("convert.seed", &b->convert.seed, "seed of the slider sampling");
+  // Shape coefficients are in standard deviations of the PCA: beyond 5 the body is no longer human.
+  s.custom(
+      "mesh.shape", [b](const std::string& text) { b->shape = parseList(text, 5.0); },
+      [b] { return listText(b->shape.data(), b->shape.size()); },
+      "up to one number in [-5, 5] per shape coefficient of the model, comma-separated",
+      "shape coefficients (standard deviations); empty: all 0");
+  s.choice("mesh.pose", &b->pose, {"rest", "walk"}, "built-in pose: rest (T pose) or walk");
+  s.custom(
+      "mesh.translation",
+      [b](const std::string& text) {
+        const std::vector<double> t = parseList(text, 1e4);
+        if (t.size() != 3) throw pf2::Error("expected x,y,z");
+        b->translation = Eigen::Vector3d(t[0], t[1], t[2]);
+      },
+      [b] { return listText(b->translation.data(), 3); }, "x,y,z in [-10000, 10000]", "root translation, metres");
+  return s;
 }
 
 // Arms down from the T pose, left leg forward, right leg back, knees a little bent.
@@ -64,85 +110,79 @@ void walkingPose(pf2::BodyParameters* p) {
   p->pose[19] = Eigen::Vector3d(0, 0.5, 0);      // right elbow
 }
 
+int convertCommand(const std::vector<std::string>& args, const BodySettings& settings) {
+  if (args.size() != 3) throw pf2::Error("convert-mpfb2 expects SRC_DIR OUT.npz (see -h)");
+  pf2::Mpfb2Converter::Report report;
+  const auto arrays = pf2::Mpfb2Converter(settings.convert).convert(args[1], &report);
+  pf2::writeNpz(args[2], arrays);
+  std::cout << report.text << "wrote " << args[2] << "\n";
+  return 0;
+}
+
+int infoCommand(const std::vector<std::string>& args, const pf2::BodyModel& model) {
+  if (args.size() != 1) throw pf2::Error("info takes no arguments (see -h)");
+  std::printf("vertices %d\ntriangles %zu\nshape_coefficients %d\npose_blend_shapes %s\n", model.vertexCount(),
+              model.triangles().size(), model.shapeCount(), model.hasPoseBlendShapes() ? "yes" : "no");
+  const auto joints = model.restJoints(Eigen::VectorXd::Zero(model.shapeCount()));
+  for (int j = 0; j < pf2::kBodyJointCount; ++j) {
+    std::printf("joint %2d %-15s %8.4f %8.4f %8.4f\n", j, pf2::kBodyJointNames[j], joints[j].x(), joints[j].y(),
+                joints[j].z());
+  }
+  // What each coefficient does at rest: stature and enclosed volume at -1 and +1.
+  const pf2::BodyMeasures rest = model.restMeasures(Eigen::VectorXd::Zero(model.shapeCount()));
+  std::printf("rest stature %.4f m, soles at y %.4f m, volume %.4f m^3 (shape 0)\n", rest.stature, rest.min_y,
+              rest.volume);
+  for (int k = 0; k < model.shapeCount(); ++k) {
+    Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.shapeCount());
+    shape[k] = -1.0;
+    const pf2::BodyMeasures minus = model.restMeasures(shape);
+    shape[k] = 1.0;
+    const pf2::BodyMeasures plus = model.restMeasures(shape);
+    std::printf("shape %d: stature %.4f / %.4f m, volume %.4f / %.4f m^3 (at -1 / +1)\n", k, minus.stature,
+                plus.stature, minus.volume, plus.volume);
+  }
+  return 0;
+}
+
+int meshCommand(const std::vector<std::string>& args, const BodySettings& settings,
+                const std::optional<std::string>& pose_file, const pf2::BodyModel& model) {
+  if (args.size() != 2) throw pf2::Error("mesh expects OUT.ply or OUT.obj (see -h)");
+  pf2::BodyParameters parameters;
+  // Fewer numbers than coefficients set the leading ones (the rest stay 0); more is an error.
+  if (static_cast<int>(settings.shape.size()) > model.shapeCount()) {
+    throw pf2::Error("setting mesh.shape: " + std::to_string(settings.shape.size()) + " numbers for a model with " +
+                     std::to_string(model.shapeCount()) + " shape coefficients");
+  }
+  parameters.shape = Eigen::VectorXd::Zero(model.shapeCount());
+  for (size_t k = 0; k < settings.shape.size(); ++k) parameters.shape[static_cast<Eigen::Index>(k)] = settings.shape[k];
+  if (settings.pose == "walk") walkingPose(&parameters);
+  if (pose_file) pf2::readBodyPoseFile(*pose_file, &parameters);
+  parameters.translation = settings.translation;
+  pf2::writeBodyMesh(args[1], model.evaluate(parameters));
+  return 0;
+}
+
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
-  if (cli.helpRequested()) {
-    std::cout << kUsage;
-    return 0;
-  }
-  const auto samples = cli.integer("--samples", -1);
-  const auto seed = cli.value("--seed");
-  const auto shape_text = cli.value("--shape");
+  BodySettings body;
+  pf2::Settings settings = declareBodySettings(&body);
+  if (pf2::answeredHelpOrSettings(&cli, std::string(kUsage) + pf2::kSettingsUsage + kExitStatus, settings)) return 0;
+  pf2::readCommandLineSettings(&cli, &settings,
+                               {{"--samples", "convert.samples"},
+                                {"--seed", "convert.seed"},
+                                {"--shape", "mesh.shape"},
+                                {"--pose", "mesh.pose"},
+                                {"--translation", "mesh.translation"}});
   const auto pose_file = cli.value("--pose-file");
-  const auto pose_name = cli.value("--pose");
-  const auto translation_text = cli.value("--translation");
   const auto model_path = cli.value("--model");
   const std::vector<std::string> args = cli.positionals();
   if (args.empty()) throw pf2::Error("no command given (see -h)");
   const std::string& command = args[0];
-
-  if (command == "convert-mpfb2") {
-    if (args.size() != 3) throw pf2::Error("convert-mpfb2 expects SRC_DIR OUT.npz (see -h)");
-    pf2::Mpfb2Converter::Options options;
-    if (samples > 0) options.sample_count = samples;
-    if (seed) {
-      if (seed->empty() || seed->find_first_not_of("0123456789") != std::string::npos || seed->size() > 19) {
-        throw pf2::Error("--seed: expected a non-negative integer, got '" + *seed + "'");
-      }
-      options.seed = std::stoull(*seed);
-    }
-    pf2::Mpfb2Converter::Report report;
-    const auto arrays = pf2::Mpfb2Converter(options).convert(args[1], &report);
-    pf2::writeNpz(args[2], arrays);
-    std::cout << report.text << "wrote " << args[2] << "\n";
-    return 0;
-  }
+  if (command == "convert-mpfb2") return convertCommand(args, body);
+  if (command != "info" && command != "mesh") throw pf2::Error("unknown command '" + command + "' (see -h)");
   const pf2::BodyModel model = model_path ? pf2::BodyModel::loadNpz(*model_path) : pf2::BodyModel::loadDefault();
-  if (command == "info") {
-    if (args.size() != 1) throw pf2::Error("info takes no arguments (see -h)");
-    std::printf("vertices %d\ntriangles %zu\nshape_coefficients %d\npose_blend_shapes %s\n", model.vertexCount(),
-                model.triangles().size(), model.shapeCount(), model.hasPoseBlendShapes() ? "yes" : "no");
-    const auto joints = model.restJoints(Eigen::VectorXd::Zero(model.shapeCount()));
-    for (int j = 0; j < pf2::kBodyJointCount; ++j) {
-      std::printf("joint %2d %-15s %8.4f %8.4f %8.4f\n", j, pf2::kBodyJointNames[j], joints[j].x(), joints[j].y(),
-                  joints[j].z());
-    }
-    // What each coefficient does at rest: stature and enclosed volume at -1 and +1.
-    const pf2::BodyMeasures rest = model.restMeasures(Eigen::VectorXd::Zero(model.shapeCount()));
-    std::printf("rest stature %.4f m, soles at y %.4f m, volume %.4f m^3 (shape 0)\n", rest.stature, rest.min_y,
-                rest.volume);
-    for (int k = 0; k < model.shapeCount(); ++k) {
-      Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.shapeCount());
-      shape[k] = -1.0;
-      const pf2::BodyMeasures minus = model.restMeasures(shape);
-      shape[k] = 1.0;
-      const pf2::BodyMeasures plus = model.restMeasures(shape);
-      std::printf("shape %d: stature %.4f / %.4f m, volume %.4f / %.4f m^3 (at -1 / +1)\n", k, minus.stature,
-                  plus.stature, minus.volume, plus.volume);
-    }
-    return 0;
-  }
-  if (command == "mesh") {
-    if (args.size() != 2) throw pf2::Error("mesh expects OUT.ply or OUT.obj (see -h)");
-    pf2::BodyParameters parameters;
-    if (shape_text) {
-      const std::vector<double> shape = parseList("--shape", *shape_text);
-      parameters.shape = Eigen::Map<const Eigen::VectorXd>(shape.data(), static_cast<Eigen::Index>(shape.size()));
-    }
-    if (pose_name) {
-      if (*pose_name != "walk") throw pf2::Error("--pose: unknown pose '" + *pose_name + "' (known: walk)");
-      walkingPose(&parameters);
-    }
-    if (pose_file) pf2::readBodyPoseFile(*pose_file, &parameters);
-    if (translation_text) {
-      const std::vector<double> t = parseList("--translation", *translation_text);
-      if (t.size() != 3) throw pf2::Error("--translation expects x,y,z");
-      parameters.translation = Eigen::Vector3d(t[0], t[1], t[2]);
-    }
-    pf2::writeBodyMesh(args[1], model.evaluate(parameters));
-    return 0;
-  }
-  throw pf2::Error("unknown command '" + command + "' (see -h)");
+  if (command == "info") return infoCommand(args, model);
+  return meshCommand(args, body, pose_file, model);
 }
 
 }  // namespace

@@ -18,12 +18,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/atomic_file.h"
+#include "pf2/core/app_settings.h"
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
 #include "pf2/core/stage_timer.h"
 #include "pf2/detection/detector_factory.h"
 #include "pf2/filters/dual_bbox_filter.h"
-#include "pf2/core/config_file.h"
 #include "pf2/core/settings.h"
 #include "pf2/filters/filter_settings.h"
 #include "pf2/filters/mask_metrics.h"
@@ -58,20 +58,20 @@ const char* kUsage =
     "  --model FILE           model file of a plug-in backend (selfie, movenet)\n"
     "  --backend-options L    more plug-in backend options, 'key=value,key=value' (e.g.\n"
     "                         selfie.threshold=0.6; each backend documents its keys)\n"
-    "Degradation of the detections (any detector; deterministic per frame):\n"
+    "Degradation of the detections (any detector; deterministic per frame; the boxes.* settings):\n"
     "  --shrink F             boxes lose fraction F of width and height (default 0)\n"
     "  --shift PX             boxes (and masks) move PX pixels in a random direction (default 0)\n"
     "  --drop P               each person is missed with probability P (default 0)\n"
     "  --false-positives R    R false boxes per frame on average (default 0)\n"
     "  --seed N               random seed (default 1)\n"
     "Filter (defaults are the paper's; the filter.* keys of docs/config.md, same meaning):\n"
-    "  --config FILE          'key value' lines (filter.* keys only)\n"
+    "  --config FILE          'key value' lines (filter.* and boxes.* keys)\n"
     "  --set KEY=VALUE        one setting, after --config (repeatable), e.g.\n"
     "                         --set filter.use_mask=true --set filter.temporal=true (the temporal guard\n"
     "                         moves last frame's pixels by groundtruth.txt's motion) --set\n"
     "                         filter.geometric=true (depth in front of the farthest static depth seen\n"
     "                         so far, a stand-in for the prediction pf2_slam makes from its keyframes)\n"
-    "  --settings             print the filter settings (key, default, unit, range, meaning) and exit\n"
+    "  --settings             print the settings (key, default, unit, range, meaning) and exit\n"
     "  --no-filter            write the input depth with the boxes' pixels removed (boxes only)\n"
     "Other:\n"
     "  --max-frames N         process the first N frames only\n"
@@ -160,38 +160,30 @@ void parseDetectorOptions(pf2::CommandLine& cli, DetectOptions* options) {
   }
 }
 
-// Reads the box degradation options and rejects values outside their ranges before any work.
-pf2::BoxDegradation parseDegradation(pf2::CommandLine& cli) {
-  pf2::BoxDegradation degradation;
-  degradation.shrink = cli.number("--shrink", 0.0);
-  degradation.shift = cli.number("--shift", 0.0);
-  degradation.drop_probability = cli.number("--drop", 0.0);
-  degradation.false_positive_rate = cli.number("--false-positives", 0.0);
-  degradation.seed = static_cast<uint64_t>(cli.integer("--seed", 1));
-  if (!(degradation.shrink >= 0 && degradation.shrink < 1) || !(degradation.drop_probability >= 0 && degradation.drop_probability <= 1) ||
-      !(degradation.shift >= 0) || !(degradation.false_positive_rate >= 0)) {
-    throw pf2::Error("--shrink must be in [0, 1), --drop in [0, 1], --shift and --false-positives >= 0");
-  }
-  return degradation;
+// The settings pf2_detect reads: the Dual-BBox filter's (filter.*) and the box degradation's
+// (boxes.*), the latter also as the options --shrink .. --seed.
+pf2::Settings declareDetectSettings(DetectOptions* options) {
+  pf2::Settings settings;
+  pf2::declareFilterSettings(&options->filter, &settings);
+  pf2::declareBoxDegradationSettings("boxes.", &options->degradation, &settings);
+  return settings;
 }
 
-// Reads the Dual-BBox filter's settings (--config, then each --set); the ones not given keep the
-// paper's defaults.
-pf2::DualBBoxFilter::Options parseFilterOptions(pf2::CommandLine& cli) {
-  pf2::DualBBoxFilter::Options filter_options;
-  pf2::Settings settings;
-  pf2::declareFilterSettings(&filter_options, &settings);
-  if (const auto config_path = cli.value("--config")) settings.apply(pf2::ConfigFile::load(*config_path));
-  for (const std::string& assignment : cli.values("--set")) settings.setAssignment(assignment);
-  return filter_options;
+void readDetectSettings(pf2::CommandLine& cli, DetectOptions* options) {
+  pf2::Settings settings = declareDetectSettings(options);
+  pf2::readCommandLineSettings(&cli, &settings,
+                               {{"--shrink", "boxes.shrink"},
+                                {"--shift", "boxes.shift"},
+                                {"--drop", "boxes.drop"},
+                                {"--false-positives", "boxes.false_positives"},
+                                {"--seed", "boxes.seed"}});
 }
 
 // Reads all options first, then the two folders (positionals() rejects any option left unread).
 DetectOptions parseOptions(pf2::CommandLine& cli) {
   DetectOptions options;
   parseDetectorOptions(cli, &options);
-  options.degradation = parseDegradation(cli);
-  options.filter = parseFilterOptions(cli);
+  readDetectSettings(cli, &options);
   options.no_filter = cli.flag("--no-filter");
   options.max_frames = cli.integer("--max-frames", 0);
   options.as_json = cli.flag("--json");
@@ -351,17 +343,8 @@ void printReport(const DetectOptions& options, const DetectSetup& setup, const D
 // Parses, sets up, runs the frames, writes boxes.txt and prints the report (see kUsage).
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
-  if (cli.helpRequested()) {
-    std::cout << kUsage;
-    return 0;
-  }
-  if (cli.flag("--settings")) {
-    pf2::DualBBoxFilter::Options defaults;
-    pf2::Settings settings;
-    pf2::declareFilterSettings(&defaults, &settings);
-    std::cout << settings.markdown();
-    return 0;
-  }
+  DetectOptions defaults;
+  if (pf2::answeredHelpOrSettings(&cli, kUsage, declareDetectSettings(&defaults))) return 0;
   DetectOptions options = parseOptions(cli);
   DetectSetup setup(&options);
 

@@ -1,11 +1,14 @@
 // pf2_eval: absolute trajectory error and relative pose error of an estimate against ground truth,
 // as the TUM RGB-D benchmark defines them.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
 
+#include "pf2/core/app_settings.h"
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
+#include "pf2/core/settings.h"
 #include "pf2/eval/trajectory_metrics.h"
 #include "pf2/eval/trajectory_plot.h"
 #include "pf2/io/trajectory_io.h"
@@ -17,7 +20,7 @@ const char* kUsage =
     "Absolute trajectory error (ATE) of ESTIMATE against GROUNDTRUTH, both TUM trajectory files\n"
     "(timestamp tx ty tz qx qy qz qw), aligned in closed form (Horn/Umeyama) as the TUM benchmark does.\n"
     "\n"
-    "Options:\n"
+    "Options (--max-diff, --scale, --delta, --delta-frames and --gt-format are settings, see --settings):\n"
     "  --rpe              also compute the relative pose error (all pairs at the given delta)\n"
     "  --delta D          RPE delta in seconds (default 1.0)\n"
     "  --delta-frames N   RPE delta in frames instead of seconds\n"
@@ -28,30 +31,59 @@ const char* kUsage =
     "  --json             print one JSON object as the last line (ate_rmse, ate_mean, ate_median,\n"
     "                     ate_std, ate_min, ate_max, pairs, scale, and rpe_* with --rpe)\n"
     "  --plot FILE        top view of both trajectories with the error segments (.png or .svg)\n"
-    "  -h, --help         this text\n"
-    "Exit status: 0 on success, 1 on bad input (the error line names the file and line).\n";
+    "  -h, --help         this text\n";
+const char* kExitStatus = "Exit status: 0 on success, 1 on bad input (the error line names the file and line).\n";
+
+// pf2_eval's settings (eval.*), declared once: --config, --set and the options below read them.
+struct EvalSettings {
+  pf2::AteOptions ate;
+  pf2::RpeOptions rpe;
+  std::string gt_format = "tum";
+};
+
+pf2::Settings declareEvalSettings(EvalSettings* e) {
+  pf2::Settings s;
+  s.number("eval.max_time_difference", &e->ate.max_time_difference, 0.0, 1.0, "s",
+           "largest timestamp difference of an associated estimate and ground-truth pose");
+  s.boolean("eval.estimate_scale", &e->ate.estimate_scale, "also estimate a scale in the alignment (monocular)");
+  s.number("eval.rpe_delta", &e->rpe.delta, 1e-3, 1e6, "s or frames",
+           "distance of the two poses of an RPE pair, in eval.rpe_delta_unit");
+  s.custom(
+      "eval.rpe_delta_unit",
+      [e](const std::string& text) {
+        if (text != "s" && text != "frames") throw pf2::Error("expected s or frames");
+        e->rpe.unit = text == "s" ? pf2::RpeOptions::DeltaUnit::kSeconds : pf2::RpeOptions::DeltaUnit::kFrames;
+      },
+      [e] { return std::string(e->rpe.unit == pf2::RpeOptions::DeltaUnit::kFrames ? "frames" : "s"); },
+      "s, frames", "unit of eval.rpe_delta");
+  s.choice("eval.gt_format", &e->gt_format, {"tum", "bonn"},
+           "what GROUNDTRUTH holds: camera poses (tum) or Bonn RGB-D Dynamic marker poses (bonn)");
+  return s;
+}
 
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
-  if (cli.helpRequested()) {
-    std::cout << kUsage;
-    return 0;
-  }
+  EvalSettings eval;
+  pf2::Settings settings = declareEvalSettings(&eval);
+  if (pf2::answeredHelpOrSettings(&cli, std::string(kUsage) + pf2::kSettingsUsage + kExitStatus, settings)) return 0;
   const bool with_rpe = cli.flag("--rpe");
   const bool as_json = cli.flag("--json");
-  pf2::AteOptions ate_options;
-  ate_options.estimate_scale = cli.flag("--scale");
-  ate_options.max_time_difference = cli.number("--max-diff", 0.02);
-  pf2::RpeOptions rpe_options;
-  rpe_options.max_time_difference = ate_options.max_time_difference;
-  rpe_options.delta = cli.number("--delta", 1.0);
-  const int delta_frames = cli.integer("--delta-frames", 0);
-  if (delta_frames > 0) {
-    rpe_options.delta = delta_frames;
-    rpe_options.unit = pf2::RpeOptions::DeltaUnit::kFrames;
+  // --delta-frames N is a delta of N frames: the unit first, then the number.
+  if (cli.has("--delta-frames")) settings.set("eval.rpe_delta_unit", "frames");
+  pf2::readCommandLineSettings(&cli, &settings,
+                               {{"--max-diff", "eval.max_time_difference"},
+                                {"--scale", "eval.estimate_scale", "true"},
+                                {"--delta", "eval.rpe_delta"},
+                                {"--delta-frames", "eval.rpe_delta"},
+                                {"--gt-format", "eval.gt_format"}});
+  if (eval.rpe.unit == pf2::RpeOptions::DeltaUnit::kFrames && eval.rpe.delta != std::floor(eval.rpe.delta)) {
+    throw pf2::Error("setting eval.rpe_delta = " + settings.value("eval.rpe_delta") +
+                     ": a delta in frames must be a whole number");
   }
-  const pf2::TrajectoryFormat gt_format =
-      pf2::parseTrajectoryFormat(cli.value("--gt-format", "tum"), "--gt-format");
+  eval.rpe.max_time_difference = eval.ate.max_time_difference;
+  const pf2::AteOptions& ate_options = eval.ate;
+  const pf2::RpeOptions& rpe_options = eval.rpe;
+  const pf2::TrajectoryFormat gt_format = pf2::parseTrajectoryFormat(eval.gt_format, "eval.gt_format");
   const auto plot_path = cli.value("--plot");
   const auto files = cli.positionals();
   if (files.size() != 2) {

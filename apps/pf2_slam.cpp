@@ -5,14 +5,17 @@
 #include <iostream>
 #include <string>
 
+#include "pf2/core/app_settings.h"
 #include "pf2/core/command_line.h"
-#include "pf2/core/config_file.h"
 #include "pf2/core/error.h"
+#include "pf2/core/settings.h"
 #include "pf2/eval/trajectory_metrics.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/io/tum_sequence.h"
+#include "pf2/io/tum_sequence_settings.h"
 #include "pf2/registration/rgbd_odometry.h"
 #include "pf2/slam/slam_system.h"
+#include "pf2/synth/synth_settings.h"
 #include "pf2/synth/synthetic_sequence.h"
 
 namespace {
@@ -35,9 +38,10 @@ const char* kUsage =
     "  --eval GROUNDTRUTH   print ATE (and RPE over 1 s) of the trajectory at the end\n"
     "  --gt-format F        tum or bonn (GROUNDTRUTH holds Bonn RGB-D Dynamic marker poses); default\n"
     "                       bonn for a folder named rgbd_bonn_*, else tum\n"
-    "  --config FILE        'section.key value' settings (docs/config.md lists the keys)\n"
+    "  --config FILE        'key value' settings, one per line (docs/config.md lists the keys)\n"
     "  --set KEY=VALUE      one setting, after --config (repeatable); e.g. --set map.voxel_size=0.02\n"
     "  --settings           print every setting (key, default, unit, allowed values, meaning) and exit\n"
+    "Each option below is a setting applied after --set: --frames N is --set run.max_frames=N.\n"
     "  --frames N           process only the first N frames\n"
     "  --no-map             track only; no TSDF/OctoMap\n"
     "  --pcd                also write map.pcd (the mesh vertices as coloured points)\n"
@@ -118,45 +122,50 @@ void printOutputs(const std::string& out_dir, const pf2::SlamOptions& options, c
   std::printf("output      %s/%s\n", out_dir.c_str(), files.c_str());
 }
 
+// Every setting pf2_slam reads, in one list: the pipeline's, the input folder's and the built-in
+// sequence's.
+struct AppSettings {
+  pf2::SlamOptions slam;
+  pf2::TumSequence::Options input;
+  pf2::SyntheticSequence::Options synth;
+  std::string distortion = "auto";
+};
+
+pf2::Settings declareAppSettings(AppSettings* a) {
+  pf2::Settings settings = pf2::slamSettings(&a->slam);
+  pf2::declareTumSequenceSettings(&a->input, &settings);
+  settings.choice("input.distortion", &a->distortion, {"auto", "none", "fr1", "fr2"},
+                  "lens distortion: auto = the published TUM fr1/fr2 values when the folder uses those "
+                  "cameras' intrinsics");
+  pf2::declareSynthSettings(&a->synth, &settings);
+  return settings;
+}
+
+// The dedicated options, each standing for one setting.
+const std::vector<pf2::SettingShortcut> kShortcuts = {
+    {"--detector", "detector.name"},           {"--frames", "run.max_frames"},
+    {"--no-map", "map.build", "false"},        {"--pcd", "map.pcd", "true"},
+    {"--obj", "map.obj", "true"},              {"--quiet", "run.progress", "false"},
+    {"--masks", "run.write_masks", "true"},    {"--calibration", "input.calibration"},
+    {"--associations", "input.associations"},  {"--depth-scale", "input.depth_scale"},
+    {"--distortion", "input.distortion"},      {"--synth-frames", "synth.frames"},
+    {"--synth-people", "synth.people"},        {"--synth-camera", "synth.camera"},
+    {"--seed", "synth.seed"}};
+
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
-  if (cli.helpRequested()) {
-    std::cout << kUsage;
-    return 0;
-  }
-  pf2::SlamOptions options;
-  pf2::Settings settings = pf2::slamSettings(&options);
-  if (cli.flag("--settings")) {
-    std::cout << settings.markdown();
-    return 0;
-  }
-  if (const auto config_path = cli.value("--config")) settings.apply(pf2::ConfigFile::load(*config_path));
-  for (const std::string& assignment : cli.values("--set")) settings.setAssignment(assignment);
+  AppSettings app;
+  pf2::Settings settings = declareAppSettings(&app);
+  if (pf2::answeredHelpOrSettings(&cli, kUsage, settings)) return 0;
+  pf2::readCommandLineSettings(&cli, &settings, kShortcuts);
+  pf2::SlamOptions& options = app.slam;
   const std::string out_dir = cli.value("-o", "pf2_output");
-  options.detector = cli.value("--detector", options.detector);
-  options.max_frames = cli.integer("--frames", options.max_frames);
-  if (cli.flag("--no-map")) options.build_map = false;
-  if (cli.flag("--pcd")) options.map_files.points_pcd = true;
-  if (cli.flag("--obj")) options.map_files.mesh_obj = true;
-  if (cli.flag("--quiet")) options.progress = false;
-  if (cli.flag("--masks")) options.write_masks = true;
   std::optional<std::string> eval_path = cli.value("--eval");
   const std::optional<std::string> gt_format_name = cli.value("--gt-format");
   std::optional<pf2::TrajectoryFormat> gt_format;
   if (gt_format_name) gt_format = pf2::parseTrajectoryFormat(*gt_format_name, "--gt-format");
-  const std::string distortion = cli.value("--distortion", "auto");
-  pf2::TumSequence::Options tum;
-  tum.calibration_file = cli.value("--calibration", "");
-  tum.associations_file = cli.value("--associations", "");
-  tum.depth_scale = cli.number("--depth-scale", tum.depth_scale);
-  pf2::SyntheticSequence::Options synth;
-  synth.frames = cli.integer("--synth-frames", synth.frames);
-  synth.people = cli.integer("--synth-people", synth.people);
-  synth.camera = pf2::cameraMotionFromName(cli.value("--synth-camera", "xyz"));
-  synth.seed = static_cast<std::uint64_t>(cli.integer("--seed", 1));
   const auto positionals = cli.positionals();
   if (positionals.size() > 1) throw pf2::Error("expected at most one SEQUENCE_DIR (see -h)");
-  pf2::validateOptions(options);  // before anything is generated or written
 
   std::string sequence_dir;
   if (positionals.empty()) {
@@ -166,7 +175,7 @@ int run(int argc, char** argv) {
       throw pf2::fileError(out_dir, "cannot create output directory");
     }
     sequence_dir = out_dir + "/synthetic";
-    const pf2::SyntheticSequence synthetic(synth);
+    const pf2::SyntheticSequence synthetic(app.synth);
     std::fprintf(stderr, "pf2_slam: generating %s into %s\n", synthetic.description().c_str(),
                  sequence_dir.c_str());
     synthetic.writeTumFolder(sequence_dir);
@@ -174,8 +183,8 @@ int run(int argc, char** argv) {
   } else {
     sequence_dir = positionals[0];
   }
-  const pf2::TumSequence sequence(sequence_dir, tum);
-  options.tracker.odometry.distortion = lensDistortion(distortion, sequence.intrinsics());
+  const pf2::TumSequence sequence(sequence_dir, app.input);
+  options.tracker.odometry.distortion = lensDistortion(app.distortion, sequence.intrinsics());
   pf2::SlamSystem system(options);
   const pf2::SlamRunSummary s = system.run(sequence, sequence_dir, out_dir);
 

@@ -2,8 +2,11 @@
 #include <iostream>
 #include <string>
 
+#include "pf2/core/app_settings.h"
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
+#include "pf2/core/settings.h"
+#include "pf2/synth/synth_settings.h"
 #include "pf2/synth/synthetic_sequence.h"
 
 namespace {
@@ -14,7 +17,7 @@ const char* kUsage =
     "depth/, rgb.txt, depth.txt, groundtruth.txt, camera.txt) with ground truth in OUT_DIR/gt/ (person\n"
     "masks, boxes, positions, body parameters, joints, the static scene mesh; see OUT_DIR/gt/README.md).\n"
     "\n"
-    "Options:\n"
+    "Options (each is a setting: --frames N is --set synth.frames=N):\n"
     "  --frames N        number of frames at 30 Hz (default 300)\n"
     "  --seed S          scene textures, people and noise (default 1); same seed, same bytes\n"
     "  --people K        people in the room, 0..5 (default 3)\n"
@@ -25,37 +28,34 @@ const char* kUsage =
     "  --close           people cross the view 0.7-1.6 m in front of the camera, one after the\n"
     "                    other, entering and leaving at the image's left and right borders\n"
     "  --quiet           no progress output\n"
-    "  -h, --help        this text\n"
-    "Exit status: 0 on success, 1 on bad options or when OUT_DIR cannot be written.\n";
+    "  -h, --help        this text\n";
+const char* kExitStatus = "Exit status: 0 on success, 1 on bad options or when OUT_DIR cannot be written.\n";
 
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
-  if (cli.helpRequested()) {
-    std::cout << kUsage;
-    return 0;
-  }
   pf2::SyntheticSequence::Options options;
-  options.frames = cli.integer("--frames", options.frames);
-  const int seed = cli.integer("--seed", 1);
-  if (seed < 0) throw pf2::Error("option --seed: expected a non-negative integer");
-  options.seed = static_cast<std::uint64_t>(seed);
-  options.people = cli.integer("--people", options.people);
-  options.camera = pf2::cameraMotionFromName(cli.value("--camera", "xyz"));
+  pf2::Settings settings;
+  pf2::declareSynthSettings(&options, &settings);
+  if (pf2::answeredHelpOrSettings(&cli, std::string(kUsage) + pf2::kSettingsUsage + kExitStatus, settings)) return 0;
+  const bool quiet = cli.flag("--quiet");
+  pf2::readCommandLineSettings(&cli, &settings,
+                               {{"--frames", "synth.frames"},
+                                {"--seed", "synth.seed"},
+                                {"--people", "synth.people"},
+                                {"--camera", "synth.camera"},
+                                {"--misalign", "synth.misalign"},
+                                {"--blur", "synth.blur", "true"},
+                                {"--close", "synth.close", "true"}});
+  // --noise names the sensor model rather than a switch.
   const std::string noise = cli.value("--noise", "kinect");
   if (noise != "kinect" && noise != "none") {
     throw pf2::Error("option --noise: expected kinect or none, got '" + noise + "'");
   }
-  options.sensor.noise = noise == "kinect";
-  options.sensor.misalign_px = cli.integer("--misalign", 0);
-  options.motion_blur = cli.flag("--blur");
-  options.close_people = cli.flag("--close");
-  const bool quiet = cli.flag("--quiet");
+  if (noise == "none") options.sensor.noise = false;
   const auto positionals = cli.positionals();
   if (positionals.size() != 1) {
     throw pf2::Error("expected one OUT_DIR, got " + std::to_string(positionals.size()) + " (see -h)");
   }
-  if (options.frames < 1) throw pf2::Error("option --frames: expected at least 1");
-  if (options.people < 0 || options.people > 5) throw pf2::Error("option --people: expected 0..5");
 
   const pf2::SyntheticSequence sequence(options);
   sequence.writeTumFolder(positionals[0], [&](size_t done) {

@@ -32,8 +32,10 @@
 #include <string>
 #include <vector>
 
+#include "pf2/core/app_settings.h"
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
+#include "pf2/core/settings.h"
 #include "pf2/humans/human_track.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/surface/triangle_mesh.h"
@@ -56,6 +58,8 @@ const char* kUsage =
     "  --size WxH          window size in pixels (default 1280x800)\n"
     "  --camera-every N    draw a camera frustum every N poses (default 30; 0: none)\n"
     "  -h, --help          this text\n"
+    "--no-map, --size and --camera-every are the settings view.map, view.size, view.camera_every:\n";
+const char* kKeys =
     "\n"
     "Keys (PCL's defaults): r reset the view to fit everything, left drag rotate, middle drag or\n"
     "shift+left drag pan, wheel zoom, f fly to the point under the mouse, w wireframe, s surface,\n"
@@ -102,14 +106,31 @@ RunData loadRun(const fs::path& dir, bool with_map) {
 }
 
 // "WxH" with both sides in [64, 8192].
-std::array<int, 2> parseSize(const std::string& text) {
-  int w = 0, h = 0;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 64 || h < 64 || w > 8192 ||
-      h > 8192) {
-    throw pf2::Error("--size: expected WxH with sides 64..8192, got '" + text + "'");
-  }
-  return {w, h};
+// pf2_view's settings (view.*), declared once: --config, --set and the options read them.
+struct ViewSettings {
+  bool with_map = true;
+  std::array<int, 2> size{1280, 800};
+  int camera_every = 30;
+};
+
+pf2::Settings declareViewSettings(ViewSettings* v) {
+  pf2::Settings s;
+  s.boolean("view.map", &v->with_map, "load and show map.ply");
+  s.custom(
+      "view.size",
+      [v](const std::string& text) {
+        int w = 0, h = 0;
+        char tail = 0;
+        if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 64 || h < 64 || w > 8192 ||
+            h > 8192) {
+          throw pf2::Error("expected WxH with sides 64..8192");
+        }
+        v->size = {w, h};
+      },
+      [v] { return std::to_string(v->size[0]) + "x" + std::to_string(v->size[1]); }, "WxH, sides 64..8192",
+      "window (or screenshot) size in pixels");
+  s.integer("view.camera_every", &v->camera_every, 0, 1000000, "poses", "a camera frustum every this many poses (0: none)");
+  return s;
 }
 
 // Axis-aligned bounds of the points shown, for the view's centre and the size of glyphs.
@@ -329,15 +350,17 @@ void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, i
 
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
-  if (cli.helpRequested()) {
-    std::cout << kUsage;
-    return 0;
-  }
-  const bool with_map = !cli.flag("--no-map");
+  ViewSettings view;
+  pf2::Settings settings = declareViewSettings(&view);
+  if (pf2::answeredHelpOrSettings(&cli, std::string(kUsage) + pf2::kSettingsUsage + kKeys, settings)) return 0;
+  pf2::readCommandLineSettings(&cli, &settings,
+                               {{"--no-map", "view.map", "false"},
+                                {"--size", "view.size"},
+                                {"--camera-every", "view.camera_every"}});
+  const bool with_map = view.with_map;
+  const std::array<int, 2>& size = view.size;
+  const int camera_every = view.camera_every;
   const auto screenshot = cli.value("--screenshot");
-  const std::array<int, 2> size = parseSize(cli.value("--size", "1280x800"));
-  const int camera_every = cli.integer("--camera-every", 30);
-  if (camera_every < 0) throw pf2::Error("--camera-every: expected N >= 0, got " + std::to_string(camera_every));
   const auto args = cli.positionals();
   if (args.size() != 1) {
     throw pf2::Error("expected one RUN_DIR, got " + std::to_string(args.size()) + " argument(s) (see -h)");

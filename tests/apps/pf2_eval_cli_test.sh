@@ -51,12 +51,23 @@ printf '%s' "$err" | grep -q "bad.txt:3:" || fail "malformed line not located: $
 # An unknown option and a bad number are errors too.
 "$eval_bin" a b --frobnicate >/dev/null 2>&1 && fail "unknown option accepted"
 "$eval_bin" a b --delta x >/dev/null 2>&1 && fail "bad --delta accepted"
+# Values outside their ranges name the option, the setting and the range.
+for case in "--delta-frames 0|option --delta-frames: setting eval.rpe_delta = 0: outside its range" \
+            "--max-diff -1|option --max-diff: setting eval.max_time_difference = -1: outside its range" \
+            "--delta-frames 1.5|a delta in frames must be a whole number"; do
+  args=${case%%|*} expect=${case#*|}
+  # shellcheck disable=SC2086
+  err=$("$eval_bin" "$work/noise_0.01/groundtruth.txt" "$work/noise_0.01/estimate.txt" --rpe $args 2>&1 >/dev/null)
+  code=$?
+  [ "$code" -eq 1 ] || fail "'$args' exit code $code"
+  printf '%s' "$err" | grep -q -- "$expect" || fail "'$args' not explained: $err"
+done
 
 # --gt-format: a bad value is one error line naming the option and the allowed values, exit 1.
 err=$("$eval_bin" "$work/noise_0.01/groundtruth.txt" "$work/noise_0.01/estimate.txt" --gt-format kitti 2>&1 >/dev/null); code=$?
 [ "$code" -eq 1 ] || fail "bad --gt-format exit code $code"
 [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "bad --gt-format: more than one error line: $err"
-printf '%s' "$err" | grep -q -- "--gt-format.*'kitti'.*tum, bonn" || fail "bad --gt-format not explained: $err"
+printf '%s' "$err" | grep -q -- "--gt-format.*kitti.*tum, bonn" || fail "bad --gt-format not explained: $err"
 "$eval_bin" "$work/noise_0.01/groundtruth.txt" "$work/noise_0.01/estimate.txt" --gt-format tum >/dev/null \
   || fail "--gt-format tum rejected"
 

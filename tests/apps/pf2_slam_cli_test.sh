@@ -32,6 +32,11 @@ printf 'map.build false\nfilter.mask_reach -4\n' > "$work/bad.cfg"
 refused "bad.cfg:2: setting filter.mask_reach = -4" "$slam" --config "$work/bad.cfg"
 printf 'map.buidl false\n' > "$work/typo.cfg"
 refused "typo.cfg:1: unknown key 'map.buidl'" "$slam" --config "$work/typo.cfg"
+refused "is a folder, not a config file" "$slam" --config "$work"
+# The dedicated options are settings too: checked against the same ranges, the option named.
+refused "option --frames: setting run.max_frames = -5: outside its range" "$slam" --frames -5
+refused "option --depth-scale: setting input.depth_scale = 0" "$slam" --depth-scale 0
+refused "option --synth-people: setting synth.people = 9" "$slam" --synth-people 9
 
 # A short run with the oracle detector (no models needed): outputs present, one pose per frame.
 out="$work/run"

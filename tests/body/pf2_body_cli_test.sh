@@ -43,6 +43,11 @@ printf 'left_tail 1 2 3\n' > "$work/bad_pose.txt"
 expect_error "bad_pose.txt:1:" mesh "$work/x.obj" --pose-file "$work/bad_pose.txt"
 expect_error "x.stl" mesh "$work/x.stl"
 expect_error "--shape" mesh "$work/x.obj" --shape 1,zwei
+expect_error "option --shape: setting mesh.shape = nan: bad number" mesh "$work/x.obj" --shape nan
+expect_error "outside \[-5" mesh "$work/x.obj" --shape 1e30
+expect_error "mesh.shape: 12 numbers for a model with 10" mesh "$work/x.obj" --shape 0,0,0,0,0,0,0,0,0,0,1,1
+expect_error "mesh.translation" mesh "$work/x.obj" --translation 1,2
+expect_error "setting mesh.pose = run" mesh "$work/x.obj" --set mesh.pose=run
 expect_error "base.obj" convert-mpfb2 "$work/no_mpfb2" "$work/out.npz"
 expect_error "unknown command" frobnicate
 [ -e "$work/x.obj" ] && fail "a failed run left x.obj"

@@ -1,40 +1,33 @@
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "pf2/core/error.h"
+#include "pf2/core/settings.h"
+#include "pf2/detection/box_degradation.h"
+#include "pf2/io/tum_sequence_settings.h"
 #include "pf2/slam/slam_options.h"
+#include "pf2/synth/synth_settings.h"
 
 namespace pf2 {
 namespace {
 
-TEST(SlamSettings, DefaultsAreWithinTheirRangesAndEveryKeyReadsBack) {
-  SlamOptions options;
-  Settings settings = slamSettings(&options);
+// Defaults pass validation and every key reads back what it was set to.
+void expectEveryKeyRoundTrips(Settings& settings) {
   EXPECT_NO_THROW(settings.validate());
-  ASSERT_GT(settings.keys().size(), 60u);
   for (const std::string& key : settings.keys()) {
     const std::string before = settings.value(key);
     settings.set(key, before);
     EXPECT_EQ(settings.value(key), before) << key;
   }
-  // Each key reaches its field: a changed value shows in the options.
-  settings.set("map.voxel_size", "0.02");
-  settings.set("tracker.local_edges", "5");
-  settings.set("filter.use_mask", "false");
-  settings.set("humans.association", "paper");
-  EXPECT_DOUBLE_EQ(options.mapper.tsdf.voxel_size, 0.02);
-  EXPECT_EQ(options.tracker.backend.local_edges, 5);
-  EXPECT_FALSE(options.filter.use_mask);
-  EXPECT_EQ(toString(options.humans.association), std::string("paper"));
 }
 
 // Every setting refuses a value beyond each end of its range (or outside its list) with its key
 // named, and keeps its value.
-TEST(SlamSettings, EveryOutOfRangeValueIsRefusedWithItsKeyNamed) {
-  SlamOptions options;
-  Settings settings = slamSettings(&options);
+void expectOutOfRangeValuesRefused(Settings& settings) {
   for (const std::string& key : settings.keys()) {
     const std::string allowed = settings.allowed(key);
     // Whole numbers beyond integer ranges, so an integer setting fails on its range, not its type.
@@ -46,6 +39,8 @@ TEST(SlamSettings, EveryOutOfRangeValueIsRefusedWithItsKeyNamed) {
       std::snprintf(above, sizeof(above), "%.10g", std::ceil(hi + 1.0 + std::fabs(hi)));
       bad = {below, above};
     }
+    // File names accept any text.
+    if (allowed == "a file name") continue;
     const std::string before = settings.value(key);
     for (const std::string& value : bad) {
       try {
@@ -61,6 +56,50 @@ TEST(SlamSettings, EveryOutOfRangeValueIsRefusedWithItsKeyNamed) {
       EXPECT_EQ(settings.value(key), before) << key;
     }
   }
+}
+
+TEST(SlamSettings, DefaultsAreWithinTheirRangesAndEveryKeyReadsBack) {
+  SlamOptions options;
+  Settings settings = slamSettings(&options);
+  ASSERT_GT(settings.keys().size(), 60u);
+  expectEveryKeyRoundTrips(settings);
+  // Each key reaches its field: a changed value shows in the options.
+  settings.set("map.voxel_size", "0.02");
+  settings.set("tracker.local_edges", "5");
+  settings.set("filter.use_mask", "false");
+  settings.set("humans.association", "paper");
+  EXPECT_DOUBLE_EQ(options.mapper.tsdf.voxel_size, 0.02);
+  EXPECT_EQ(options.tracker.backend.local_edges, 5);
+  EXPECT_FALSE(options.filter.use_mask);
+  EXPECT_EQ(toString(options.humans.association), std::string("paper"));
+}
+
+TEST(SlamSettings, EveryOutOfRangeValueIsRefusedWithItsKeyNamed) {
+  SlamOptions options;
+  Settings settings = slamSettings(&options);
+  expectOutOfRangeValuesRefused(settings);
+}
+
+// The other apps' settings lists follow the same rules.
+TEST(AppSettings, SyntheticInputAndDegradationSettingsRoundTripAndRefuseOutOfRange) {
+  SyntheticSequence::Options synth;
+  TumSequence::Options input;
+  BoxDegradation degradation;
+  Settings settings;
+  declareSynthSettings(&synth, &settings);
+  declareTumSequenceSettings(&input, &settings);
+  declareBoxDegradationSettings("boxes.", &degradation, &settings);
+  ASSERT_EQ(settings.keys().size(), 17u);
+  expectEveryKeyRoundTrips(settings);
+  expectOutOfRangeValuesRefused(settings);
+  settings.set("synth.camera", "loop");
+  settings.set("synth.seed", "2147483647");
+  settings.set("input.depth_scale", "1000");
+  settings.set("boxes.shift", "4");
+  EXPECT_EQ(synth.camera, CameraMotion::kLoop);
+  EXPECT_EQ(synth.seed, 2147483647u);
+  EXPECT_DOUBLE_EQ(input.depth_scale, 1000.0);
+  EXPECT_DOUBLE_EQ(degradation.shift, 4.0);
 }
 
 }  // namespace

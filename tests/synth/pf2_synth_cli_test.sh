@@ -57,6 +57,9 @@ check_error "frames" "$work/x" --frames many
 check_error "unknown option" "$work/x" --colour
 check_error "OUT_DIR" --frames 2
 check_error "misalign" "$work/x" --misalign 400
+check_error "setting synth.frames = 0: outside its range" "$work/x" --set synth.frames=0
+check_error "option --seed: setting synth.seed = -3" "$work/x" --seed -3
+"$synth" --settings | grep -q "synth.camera" || fail "--settings does not list synth.camera"
 
 if [ "$failures" -ne 0 ]; then echo "$failures check(s) failed"; exit 1; fi
 echo "all pf2_synth checks passed"

@@ -18,6 +18,9 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 }
 
 void writePly(std::ostream& out, const BodyMesh& mesh) {
+  for (const auto& v : mesh.vertices) {
+    if (!v.allFinite()) throw Error("body mesh has a vertex that is not a finite number");
+  }
   out << "ply\nformat binary_little_endian 1.0\ncomment PoseFusion2 body mesh, metres\n"
       << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
       << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
@@ -32,9 +35,11 @@ void writePly(std::ostream& out, const BodyMesh& mesh) {
 
 void writeObj(std::ostream& out, const BodyMesh& mesh) {
   out << "# PoseFusion2 body mesh, metres\n";
-  char line[96];
+  // %g keeps every finite float whole (a fixed-point format of a huge value would not fit a line buffer).
+  char line[128];
   for (const auto& v : mesh.vertices) {
-    std::snprintf(line, sizeof(line), "v %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
+    if (!v.allFinite()) throw Error("body mesh has a vertex that is not a finite number");
+    std::snprintf(line, sizeof(line), "v %.7g %.7g %.7g\n", v.x(), v.y(), v.z());
     out << line;
   }
   for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';

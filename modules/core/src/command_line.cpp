@@ -32,6 +32,13 @@ bool CommandLine::flag(const std::string& name) {
   return found;
 }
 
+bool CommandLine::has(const std::string& name) const {
+  for (size_t i = 0; i < args_.size(); ++i) {
+    if (!used_[i] && args_[i] == name) return true;
+  }
+  return false;
+}
+
 std::vector<std::string> CommandLine::values(const std::string& name) {
   std::vector<std::string> result;
   for (size_t i = 0; i < args_.size(); ++i) {

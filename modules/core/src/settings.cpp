@@ -86,6 +86,24 @@ Settings& Settings::integer(const std::string& key, int* field, int lo, int hi, 
               [field, lo, hi] { return *field >= lo && *field <= hi; }});
 }
 
+Settings& Settings::seed(const std::string& key, std::uint64_t* field, const std::string& meaning) {
+  constexpr long long kMaxSeed = 2147483647;  // 2^31 - 1: plenty of distinct seeds, and the same on every platform
+  return add({key, "", rangeText(0, kMaxSeed), meaning, "",
+              [field](const std::string& text) {
+                long long v = 0;
+                try {
+                  size_t end = 0;
+                  v = std::stoll(text, &end);
+                  if (end != text.size()) throw Error("");
+                } catch (const std::exception&) {
+                  throw Error("expected an integer");
+                }
+                if (v < 0 || v > kMaxSeed) throw Error("outside its range " + rangeText(0, kMaxSeed));
+                *field = static_cast<std::uint64_t>(v);
+              },
+              [field] { return std::to_string(*field); }, [field] { return *field <= kMaxSeed; }});
+}
+
 Settings& Settings::boolean(const std::string& key, bool* field, const std::string& meaning) {
   return add({key, "", "true, false", meaning, "",
               [field](const std::string& text) { *field = parseBoolean(text); },

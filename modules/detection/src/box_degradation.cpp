@@ -3,7 +3,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pf2/core/settings.h"
+
 namespace pf2 {
+
+void declareBoxDegradationSettings(const std::string& prefix, BoxDegradation* d, Settings* settings) {
+  settings->number(prefix + "shrink", &d->shrink, 0.0, 0.9, "fraction", "boxes lose this fraction of their width and height");
+  settings->number(prefix + "shift", &d->shift, 0.0, 200.0, "pixels", "boxes (and masks) move this far in a random direction");
+  settings->number(prefix + "drop", &d->drop_probability, 0.0, 1.0, "probability", "each person is missed with this probability");
+  settings->number(prefix + "false_positives", &d->false_positive_rate, 0.0, 20.0, "boxes per frame",
+                   "mean number of false boxes added per frame");
+  settings->seed(prefix + "seed", &d->seed, "seed of the degradation's random choices");
+}
 namespace {
 
 // splitmix64: tiny, and its sequence is the same on every platform (std distributions are not).

@@ -51,10 +51,7 @@ void detectorSettings(SlamOptions& o, Settings& s) {
            "gt = the ground-truth oracle of pf2_synth folders");
   s.boolean("detector.gt_masks", &o.detection.gt.provide_mask,
             "gt hands its masks to the filter like a segmenting detector; false = the paper's boxes only");
-  s.number("detector.gt_shrink", &o.detection.gt.degradation.shrink, 0.0, 0.9, "fraction",
-           "gt boxes lose this fraction of their width and height");
-  s.number("detector.gt_drop", &o.detection.gt.degradation.drop_probability, 0.0, 1.0, "probability",
-           "gt misses each person with this probability");
+  declareBoxDegradationSettings("detector.gt_", &o.detection.gt.degradation, &s);
 }
 
 // The filter's own keys, then pf2_slam's geometric addition: the keyframes' prediction.

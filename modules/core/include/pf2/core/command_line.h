@@ -13,6 +13,8 @@ class CommandLine {
   CommandLine(int argc, const char* const* argv);
 
   bool helpRequested() const;
+  // True if --name is present and not yet consumed (it stays unconsumed).
+  bool has(const std::string& name) const;
   // True if --name is present (it is consumed).
   bool flag(const std::string& name);
   // The argument after the last --name (all consumed); nullopt when absent; throws when --name

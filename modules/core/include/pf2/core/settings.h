@@ -13,6 +13,7 @@
 //
 // A Settings object holds pointers to the fields it was given: those must outlive it. NOT thread
 // safe.
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -30,6 +31,8 @@ class Settings {
   Settings& integer(const std::string& key, int* field, int lo, int hi, const std::string& unit,
                     const std::string& meaning);
   Settings& boolean(const std::string& key, bool* field, const std::string& meaning);
+  // A random seed, an integer in [0, 2^31 - 1], held in a 64-bit field.
+  Settings& seed(const std::string& key, std::uint64_t* field, const std::string& meaning);
   // A text setting with a fixed list of allowed values.
   Settings& choice(const std::string& key, std::string* field, const std::vector<std::string>& allowed,
                    const std::string& meaning);

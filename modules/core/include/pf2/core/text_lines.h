@@ -1,8 +1,9 @@
 #pragma once
 // Calls handle(line, number) for each data line of a text file: CRLF tolerated, blank lines and
 // lines starting with '#' skipped (a '#' later in a line is left to the handler). Throws pf2::Error
-// "path: cannot open <what>" when the file cannot be opened. Every reader of our text formats
+// "path: cannot open <what>" when the file cannot be opened or is a folder. Every reader of our text formats
 // (TUM lists and trajectories, calibration, config, boxes) goes through it.
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -12,6 +13,9 @@ namespace pf2 {
 
 template <typename Handle>
 void forEachDataLine(const std::string& path, const std::string& what, Handle handle) {
+  std::error_code ignored;
+  // A folder opens as an empty stream on Linux: it would read as a file without lines.
+  if (std::filesystem::is_directory(path, ignored)) throw fileError(path, "is a folder, not a " + what);
   std::ifstream in(path);
   if (!in) throw fileError(path, "cannot open " + what);
   std::string line;

@@ -4,6 +4,7 @@
 // Deterministic: the random draws of a frame depend only on the seed and the frame's timestamp,
 // never on how many frames were processed before.
 #include <cstdint>
+#include <string>
 
 #include <opencv2/core.hpp>
 
@@ -22,6 +23,12 @@ struct BoxDegradation {
     return shrink > 0 || shift > 0 || drop_probability > 0 || false_positive_rate > 0;
   }
 };
+
+class Settings;
+
+// Binds the fields of `degradation` to `settings` under prefix + shrink, shift, drop,
+// false_positives, seed (e.g. "detector.gt_" in pf2_slam, "boxes." in pf2_detect).
+void declareBoxDegradationSettings(const std::string& prefix, BoxDegradation* degradation, Settings* settings);
 
 // Applies the degradation to detections of an image of the given size. Dropped people disappear,
 // surviving boxes shrink then shift (masks shift with them), false positives are person-shaped
