@@ -28,7 +28,9 @@ const char* kUsage =
     "\n"
     "Outputs in OUT_DIR (default pf2_output): trajectory.txt (TUM format, one line per frame with a\n"
     "pose), stats.json (frames, lost frames, per-stage median/p90 ms, fps), map.ply, map.bt, map.ot,\n"
-    "humans.txt ('timestamp id x y z' person centres, world frame of trajectory.txt) with a detector.\n"
+    "with a detector: humans.txt ('timestamp id x y z', each person's pelvis in the world frame of\n"
+    "trajectory.txt), humans.json (each person's body per frame: pose, shape, joints) and scene.ply,\n"
+    "scene.obj (the map with each person's body and track).\n"
     "\n"
     "Options:\n"
     "  -o DIR               output folder (created if needed)\n"
@@ -47,6 +49,8 @@ const char* kUsage =
     "  --pcd                also write map.pcd (the mesh vertices as coloured points)\n"
     "  --obj                also write map.obj (the mesh as Wavefront OBJ with vertex colours)\n"
     "  --masks              also write masks/<timestamp>.png per frame (255 = depth removed)\n"
+    "  --no-bodies          no body fits: humans.txt from the eq. 2 centres, no humans.json/scene.*\n"
+    "  --bodies-every N     scene.ply/.obj also show every N-th body along each track\n"
     "  --calibration FILE   camera calibration file (default: camera.txt in the folder or TUM preset)\n"
     "  --associations FILE  rgb/depth associations instead of matching rgb.txt and depth.txt\n"
     "  --depth-scale S      depth PNG units per metre (default 5000)\n"
@@ -118,6 +122,7 @@ void printOutputs(const std::string& out_dir, const pf2::SlamOptions& options, c
   }
   const bool people = detector != "none";
   if (options.track_humans && people) files += ", humans.txt";
+  if (options.track_humans && people && options.fit_bodies) files += ", humans.json, scene.ply, scene.obj";
   if (options.write_masks && people) files += ", masks/";
   std::printf("output      %s/%s\n", out_dir.c_str(), files.c_str());
 }
@@ -150,7 +155,8 @@ const std::vector<pf2::SettingShortcut> kShortcuts = {
     {"--associations", "input.associations"},  {"--depth-scale", "input.depth_scale"},
     {"--distortion", "input.distortion"},      {"--synth-frames", "synth.frames"},
     {"--synth-people", "synth.people"},        {"--synth-camera", "synth.camera"},
-    {"--seed", "synth.seed"}};
+    {"--seed", "synth.seed"},                  {"--no-bodies", "bodies.fit", "false"},
+    {"--bodies-every", "bodies.scene_every"}};
 
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);

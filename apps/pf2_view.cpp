@@ -206,19 +206,6 @@ void appendFrustum(const Eigen::Isometry3d& T_w_c, double depth, std::vector<Eig
   }
 }
 
-// Distinct, bright colours for person ids on a dark background.
-std::array<double, 3> personColour(int id) {
-  static const std::array<std::array<double, 3>, 8> kPalette = {{{1.0, 0.35, 0.2},
-                                                                  {0.25, 0.45, 1.0},
-                                                                  {1.0, 0.85, 0.1},
-                                                                  {0.8, 0.3, 1.0},
-                                                                  {0.1, 0.9, 0.8},
-                                                                  {1.0, 0.4, 0.7},
-                                                                  {0.6, 1.0, 0.3},
-                                                                  {1.0, 0.6, 0.1}}};
-  return kPalette[static_cast<std::size_t>(std::max(id, 0)) % kPalette.size()];
-}
-
 // Refuses to go on without a reachable X display: VTK's X render window aborts the process
 // when it cannot open one. The connection is kept open until the viewer is gone, because an X
 // server (Xvfb too) resets when its last client leaves and would refuse VTK's connection meanwhile.
@@ -311,7 +298,7 @@ void buildScene(pcl::visualization::PCLVisualizer& viewer, const RunData& run, i
   for (const pf2::HumanTrack& track : run.people) {
     if (track.points.empty()) continue;
     const std::string id = "person_" + std::to_string(track.id);
-    const std::array<double, 3> rgb = personColour(track.id);
+    const std::array<double, 3> rgb = pf2::personColour(track.id);
     std::vector<Eigen::Vector3d> points;
     for (const pf2::HumanTrackPoint& p : track.points) points.push_back(p.p_w);
     if (points.size() >= 2) addLines(viewer, points, false, rgb, 3.0, id);

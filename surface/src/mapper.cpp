@@ -121,13 +121,15 @@ std::size_t Mapper::memoryBytes() const {
 }
 
 void Mapper::exportMap(const std::string& directory, const ExportOptions& what) {
+  const bool mesh_needed = what.mesh_ply || what.points_pcd || what.mesh_obj;
+  exportMap(directory, what, mesh_needed ? extractMesh() : TriangleMesh());
+}
+
+void Mapper::exportMap(const std::string& directory, const ExportOptions& what, const TriangleMesh& mesh) {
   const std::string prefix = directory.empty() ? std::string() : directory + "/";
-  if (what.mesh_ply || what.points_pcd || what.mesh_obj) {
-    const TriangleMesh mesh = extractMesh();
-    if (what.mesh_ply) saveMeshPly(mesh, prefix + "map.ply");
-    if (what.points_pcd) saveMeshVerticesPcd(mesh, prefix + "map.pcd");
-    if (what.mesh_obj) saveMeshObj(mesh, prefix + "map.obj");
-  }
+  if (what.mesh_ply) saveMeshPly(mesh, prefix + "map.ply");
+  if (what.points_pcd) saveMeshVerticesPcd(mesh, prefix + "map.pcd");
+  if (what.mesh_obj) saveMeshObj(mesh, prefix + "map.obj");
   if ((what.octomap_bt || what.octomap_ot) && !options_.build_occupancy) {
     throw Error("Mapper: " + prefix + "map.bt/.ot asked for but build_occupancy is off");
   }

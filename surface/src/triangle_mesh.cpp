@@ -28,8 +28,12 @@ double TriangleMesh::area() const {
 namespace {
 
 // True when the mesh has one colour per vertex, false when it has none; throws pf2::Error naming
-// the path on any other count.
+// the path on any other count (and when the edges' colours do not match the edges).
 bool hasVertexColours(const TriangleMesh& mesh, const std::string& path) {
+  if (mesh.edge_colors.size() != mesh.edges.size()) {
+    throw fileError(path, "mesh has " + std::to_string(mesh.edge_colors.size()) + " edge colours for " +
+                              std::to_string(mesh.edges.size()) + " edges");
+  }
   if (mesh.colors.empty()) return false;
   if (mesh.colors.size() != mesh.vertices.size()) {
     throw fileError(path, "mesh has " + std::to_string(mesh.colors.size()) + " colours for " +
@@ -46,7 +50,12 @@ void saveMeshPly(const TriangleMesh& mesh, const std::string& path) {
     out << "ply\nformat binary_little_endian 1.0\ncomment PoseFusion2 static map, metres, world frame\n"
         << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n";
     if (coloured) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-    out << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    out << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\n";
+    if (!mesh.edges.empty()) {
+      out << "element edge " << mesh.edges.size() << "\nproperty int vertex1\nproperty int vertex2\n"
+          << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    }
+    out << "end_header\n";
     // Little-endian host (x86-64, arm64): the in-memory bytes are the file's bytes.
     std::vector<char> buffer;
     const std::size_t vertex_bytes = 12 + (coloured ? 3 : 0);
@@ -62,6 +71,13 @@ void saveMeshPly(const TriangleMesh& mesh, const std::string& path) {
       char* p = buffer.data() + i * 13;
       p[0] = 3;
       std::memcpy(p + 1, mesh.triangles[i].data(), 12);
+    }
+    out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    buffer.resize(mesh.edges.size() * 11);
+    for (std::size_t i = 0; i < mesh.edges.size(); ++i) {
+      char* p = buffer.data() + i * 11;
+      std::memcpy(p, mesh.edges[i].data(), 8);
+      std::memcpy(p + 8, mesh.edge_colors[i].data(), 3);
     }
     out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   });
@@ -84,6 +100,10 @@ void saveMeshObj(const TriangleMesh& mesh, const std::string& path) {
     }
     for (const Eigen::Vector3i& t : mesh.triangles) {
       const int n = std::snprintf(line, sizeof(line), "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1);
+      out.write(line, n);
+    }
+    for (const Eigen::Vector2i& e : mesh.edges) {
+      const int n = std::snprintf(line, sizeof(line), "l %d %d\n", e[0] + 1, e[1] + 1);
       out.write(line, n);
     }
   });

@@ -219,17 +219,47 @@ BodyMeasures BodyModel::restMeasures(const Eigen::VectorXd& shape) const {
   return m;
 }
 
-BodyMesh BodyModel::evaluate(const BodyParameters& parameters) const {
-  const int V = vertexCount();
-  Eigen::VectorXf v_posed = restVertices(parameters.shape);
-  const std::array<Eigen::Vector3d, kBodyJointCount> J = restJoints(parameters.shape);
+namespace {
 
+std::array<Eigen::Matrix3d, kBodyJointCount> jointRotations(const BodyParameters& parameters) {
   std::array<Eigen::Matrix3d, kBodyJointCount> R;
   for (int j = 0; j < kBodyJointCount; ++j) {
     const Eigen::Vector3d& r = parameters.pose[j];
     const double angle = r.norm();
     R[j] = angle > 1e-12 ? Eigen::AngleAxisd(angle, r / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
   }
+  return R;
+}
+
+// The posed transform G_j of each joint (rotation and position, root translation not added), down
+// the kinematic tree from the rest joints J.
+std::array<Eigen::Isometry3d, kBodyJointCount> jointTransforms(const std::array<Eigen::Matrix3d, kBodyJointCount>& R,
+                                                               const std::array<Eigen::Vector3d, kBodyJointCount>& J) {
+  std::array<Eigen::Isometry3d, kBodyJointCount> G;
+  for (int j = 0; j < kBodyJointCount; ++j) {
+    Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
+    local.linear() = R[j];
+    const int parent = kBodyJointParents[j];
+    local.translation() = parent < 0 ? J[j] : Eigen::Vector3d(J[j] - J[parent]);
+    G[j] = parent < 0 ? local : G[parent] * local;
+  }
+  return G;
+}
+
+}  // namespace
+
+std::array<Eigen::Vector3d, kBodyJointCount> BodyModel::posedJoints(const BodyParameters& parameters) const {
+  const auto G = jointTransforms(jointRotations(parameters), restJoints(parameters.shape));
+  std::array<Eigen::Vector3d, kBodyJointCount> joints;
+  for (int j = 0; j < kBodyJointCount; ++j) joints[j] = G[j].translation() + parameters.translation;
+  return joints;
+}
+
+BodyMesh BodyModel::evaluate(const BodyParameters& parameters) const {
+  const int V = vertexCount();
+  Eigen::VectorXf v_posed = restVertices(parameters.shape);
+  const std::array<Eigen::Vector3d, kBodyJointCount> J = restJoints(parameters.shape);
+  const std::array<Eigen::Matrix3d, kBodyJointCount> R = jointRotations(parameters);
   if (hasPoseBlendShapes()) {
     // SMPL's pose feature: (R_j - I) of joints 1..23, each 3x3 row-major.
     Eigen::VectorXf feature(kPoseFeatureCount);
@@ -243,16 +273,11 @@ BodyMesh BodyModel::evaluate(const BodyParameters& parameters) const {
     v_posed.noalias() += posedirs_ * feature;
   }
 
-  // World transform of each joint, then the skinning transform A_j = G_j * [I | -J_j].
+  // The skinning transform of each joint, A_j = G_j * [I | -J_j], plus the root translation.
   BodyMesh mesh;
-  std::array<Eigen::Isometry3d, kBodyJointCount> G;
+  const std::array<Eigen::Isometry3d, kBodyJointCount> G = jointTransforms(R, J);
   std::array<Eigen::Matrix<float, 3, 4>, kBodyJointCount> A;
   for (int j = 0; j < kBodyJointCount; ++j) {
-    Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
-    local.linear() = R[j];
-    const int parent = kBodyJointParents[j];
-    local.translation() = parent < 0 ? J[j] : Eigen::Vector3d(J[j] - J[parent]);
-    G[j] = parent < 0 ? local : G[parent] * local;
     mesh.joints[j] = G[j].translation() + parameters.translation;
     Eigen::Matrix<double, 3, 4> a;
     a.leftCols<3>() = G[j].linear();

@@ -12,6 +12,18 @@
 
 namespace pf2 {
 
+std::array<double, 3> personColour(int id) {
+  static const std::array<std::array<double, 3>, 8> kPalette = {{{1.0, 0.35, 0.2},
+                                                                  {0.25, 0.45, 1.0},
+                                                                  {1.0, 0.85, 0.1},
+                                                                  {0.8, 0.3, 1.0},
+                                                                  {0.1, 0.9, 0.8},
+                                                                  {1.0, 0.4, 0.7},
+                                                                  {0.6, 1.0, 0.3},
+                                                                  {1.0, 0.6, 0.1}}};
+  return kPalette[static_cast<std::size_t>(std::max(id, 0)) % kPalette.size()];
+}
+
 void writeHumanTracks(const std::string& path, const std::vector<HumanTrack>& tracks) {
   struct Line {
     double timestamp;

@@ -122,6 +122,22 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.number("humans.max_speed", &h.max_speed, 0.1, 20.0, "m/s", "velocity clamp");
 }
 
+void bodySettings(SlamOptions& o, Settings& s) {
+  BodyTrackFitter::Options& b = o.bodies;
+  s.boolean("bodies.fit", &o.fit_bodies, "fit each tracked person's body (needs keypoints); as --no-bodies when false");
+  s.integer("bodies.fit_every", &b.fit_every, 1, 300, "frames", "frames between two fits of one person");
+  s.integer("bodies.queue", &b.queue_capacity, 1, 1000, "fits", "fits waiting for the body thread; more are skipped");
+  s.integer("bodies.shape_fits", &b.shape_fits, 1, 1000, "fits", "fits of a person with a free shape, then it is held");
+  s.number("bodies.warm_start_gap", &b.warm_start_gap, 0.0, 10.0, "seconds", "an older fit is not a warm start");
+  s.number("bodies.weight_temporal", &b.weight_temporal, 0.0, 100.0, "", "pull towards the previous fit's pose");
+  s.boolean("bodies.asynchronous", &b.asynchronous, "fits in their own thread; false: in the front end (repeatable)");
+  s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
+  s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
+           "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");
+  s.integer("bodies.scene_every", &o.scene.bodies_every, 0, 100000, "frames",
+            "scene.ply/.obj also show every n-th body along each track (0 = the last fitted body only)");
+}
+
 void mapSettings(SlamOptions& o, Settings& s) {
   Mapper::Options& m = o.mapper;
   s.boolean("map.build", &o.build_map, "fuse the map (TSDF and OctoMap)");
@@ -158,6 +174,7 @@ Settings slamSettings(SlamOptions* options) {
   filterSettings(*options, settings);
   trackerSettings(*options, settings);
   humanSettings(*options, settings);
+  bodySettings(*options, settings);
   mapSettings(*options, settings);
   runSettings(*options, settings);
   return settings;

@@ -4,7 +4,9 @@
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
+#include "pf2/humans/body_tracks_io.h"
 #include "pf2/io/trajectory_io.h"
+#include "pf2/slam/scene_export.h"
 #include "pf2/slam/slam_system.h"
 
 namespace pf2 {
@@ -31,6 +33,7 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
       << ",\"relocalised\":" << s.relocalised << ",\"bridged\":" << s.bridged
       << ",\"keyframes\":" << s.keyframes << ",\"loop_closures\":" << s.loop_closures
       << ",\"local_edges\":" << s.local_edges
+      << ",\"body_fits_offered\":" << s.body_fits_offered << ",\"body_fits_skipped\":" << s.body_fits_skipped
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
       << "\",\"stages\":" << stages.toJson() << ",\"tracker_stages\":" << result.tracker_stages_json
       << ",\"frame_status\":" << frameStatusJson(result.frame_status) << "}\n";
@@ -41,9 +44,18 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
 void writeFiles(const std::string& dir, const SlamResult& result, StageStats* stages) {
   writeTrajectory(dir + "/trajectory.txt", result.trajectory);
   if (result.has_humans) writeHumanTracks(dir + "/humans.txt", result.humans);
+  TriangleMesh static_map;
   if (result.map) {
     ScopedStageTimer timer(stages, "map_export");
-    result.map->exportMap(dir, result.map_files);
+    static_map = result.map->extractMesh();
+    result.map->exportMap(dir, result.map_files, static_map);
+  }
+  if (result.body_model) {
+    ScopedStageTimer timer(stages, "scene_export");
+    writeBodyTracksJson(dir + "/humans.json", result.bodies);
+    const TriangleMesh scene = buildScene(static_map, result.bodies, *result.body_model, result.scene);
+    saveMeshPly(scene, dir + "/scene.ply");
+    saveMeshObj(scene, dir + "/scene.obj");
   }
   const std::string json = summaryJson(result, *stages);
   writeFileAtomically(dir + "/stats.json", [&](std::ostream& out) { out << json; });

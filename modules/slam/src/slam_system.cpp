@@ -3,20 +3,18 @@
 #include <sys/stat.h>
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
-#include <deque>
 #include <exception>
 #include <filesystem>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <thread>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/core/work_queue.h"
 #include "pf2/filters/person_removal.h"
 #include "pf2/humans/human_position.h"
 #include "pf2/humans/human_tracker.h"
@@ -33,42 +31,6 @@ void makeDirectory(const std::string& path) {
   }
   if (::mkdir(path.c_str(), 0755) != 0) throw fileError(path, "cannot create output directory");
 }
-
-// A bounded queue between two threads; close() ends it (pop returns nullopt once drained).
-template <typename T>
-class WorkQueue {
- public:
-  explicit WorkQueue(size_t capacity) : capacity_(std::max<size_t>(1, capacity)) {}
-  void push(T item) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    not_full_.wait(lock, [&] { return items_.size() < capacity_ || closed_; });
-    if (closed_) return;
-    items_.push_back(std::move(item));
-    not_empty_.notify_one();
-  }
-  std::optional<T> pop() {
-    std::unique_lock<std::mutex> lock(mutex_);
-    not_empty_.wait(lock, [&] { return !items_.empty() || closed_; });
-    if (items_.empty()) return std::nullopt;
-    T item = std::move(items_.front());
-    items_.pop_front();
-    not_full_.notify_one();
-    return item;
-  }
-  void close() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    closed_ = true;
-    not_empty_.notify_all();
-    not_full_.notify_all();
-  }
-
- private:
-  const size_t capacity_;
-  std::mutex mutex_;
-  std::condition_variable not_empty_, not_full_;
-  std::deque<T> items_;
-  bool closed_ = false;
-};
 
 // Decodes frames ahead of the front end; an exception is handed over with the frame it hit.
 struct LoadedFrame {
@@ -118,13 +80,14 @@ struct FrameRecord {
 // interval widened by `margin`: the dilated mask is taken whatever its depth, so it brings in the
 // edges of whoever stands in front or behind (without a mask the filter has already kept only
 // depths of the person's intervals). People whose depths cover less than min_area of the image
-// get no centre.
+// get no centre. *person_of_centre gets the index into filtered.people of each centre.
 std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
                                            const CameraIntrinsics& K, bool in_interval, double margin,
-                                           double min_area) {
+                                           double min_area, std::vector<size_t>* person_of_centre) {
   const double min_pixels = min_area * filtered.static_depth.total();
   std::vector<Eigen::Vector3d> centres_c;
-  for (const DualBBoxFilter::Person& person : filtered.people) {
+  for (size_t index = 0; index < filtered.people.size(); ++index) {
+    const DualBBoxFilter::Person& person = filtered.people[index];
     const bool masked = person.detection >= 0 && person.detection < static_cast<int>(detections.people.size()) &&
                         !detections.people[person.detection].mask.empty();
     const bool use_interval = in_interval && masked && person.interval.valid;
@@ -135,6 +98,7 @@ std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtere
     if (pixels == 0 || pixels < min_pixels) continue;
     centres_c.push_back(humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr,
                                             person.box.y_lr, d_m, K));
+    person_of_centre->push_back(index);
   }
   return centres_c;
 }
@@ -154,6 +118,29 @@ std::vector<HumanTrack> humanTracks(const std::vector<FrameRecord>& records,
   std::vector<HumanTrack> list;
   for (auto& [id, track] : tracks) list.push_back(std::move(track));
   return list;
+}
+
+// Every person seen in a frame with a pose, for the bodies' assembly at the end.
+std::vector<PersonSighting> personSightings(const std::vector<FrameRecord>& records) {
+  std::vector<PersonSighting> sightings;
+  for (size_t i = 0; i < records.size(); ++i) {
+    const FrameRecord& record = records[i];
+    if (!record.has_pose) continue;
+    for (const auto& [id, p_c] : record.people_c) {
+      sightings.push_back({id, static_cast<int>(i), record.timestamp, record.keyframe_id, record.T_k_c, p_c});
+    }
+  }
+  return sightings;
+}
+
+// A detection's COCO-17 keypoints as the body fitter takes them; false when it has none.
+bool bodyKeypoints(const PersonDetection& detection, std::array<BodyKeypoint, kCocoKeypointCount>* keypoints) {
+  if (detection.keypoints.size() != kCocoKeypointCount) return false;
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    const Keypoint2d& point = detection.keypoints[k];
+    (*keypoints)[k] = {point.u, point.v, point.score};
+  }
+  return true;
 }
 
 // Decodes frames ahead of the front end in its own thread (decoding overlaps the front end's work).
@@ -275,6 +262,10 @@ class SlamSystem::Pipeline {
         mapper_(std::make_shared<Mapper>(options.mapper)),
         humans_(options.humans),
         track_humans_(options.track_humans && removal_ != nullptr) {
+    if (track_humans_ && options.fit_bodies) {
+      body_model_ = std::make_shared<const BodyModel>(BodyModel::loadDefault());
+      body_fitter_ = std::make_unique<BodyTrackFitter>(*body_model_, options.bodies);
+    }
     if (options.build_map) {
       mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats, options.synchronous_map);
     }
@@ -339,7 +330,18 @@ class SlamSystem::Pipeline {
         result.trajectory.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
     }
     result.has_humans = track_humans_;
-    if (track_humans_) result.humans = humanTracks(records_, keyframe_poses);
+    if (body_fitter_) {
+      // Tracks follow the bodies' pelvis where there is a fit, the eq. 2 centre otherwise.
+      const BodyTrackAssembler assembler(*body_model_, options_.body_tracks);
+      result.bodies = assembler.assemble(personSightings(records_), body_fitter_->finish(), keyframe_poses);
+      result.body_model = body_model_;
+      result.scene = options_.scene;
+      result.humans = pelvisTracks(result.bodies);
+      result.summary.body_fits_offered = body_fitter_->offered();
+      result.summary.body_fits_skipped = body_fitter_->dropped();
+    } else if (track_humans_) {
+      result.humans = humanTracks(records_, keyframe_poses);
+    }
     result.tracker_stages_json = tracker_.stats().toJson();
     if (mapping_) {
       mapping_->moveTo(keyframe_poses);
@@ -408,9 +410,10 @@ class SlamSystem::Pipeline {
                                                const DualBBoxFilter::Result& filtered, const TrackResult& result,
                                                FrameRecord* record) {
     ScopedStageTimer timer(stats_, "humans");
+    std::vector<size_t> person_of_centre;
     const std::vector<Eigen::Vector3d> people_c =
         personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
-                      options_.filter.human_margin, options_.human_min_area);
+                      options_.filter.human_margin, options_.human_min_area, &person_of_centre);
     std::vector<Eigen::Vector3d> people_w;
     if (record->has_pose) {
       for (const Eigen::Vector3d& p_c : people_c) people_w.push_back(humanCentreInWorld(result.T_w_c, p_c));
@@ -420,8 +423,32 @@ class SlamSystem::Pipeline {
     for (size_t k = 0; k < ids.size(); ++k) {
       record->people_c.emplace_back(ids[k], people_c[k]);
       people.push_back({ids[k], people_c[k], record->has_pose ? people_w[k] : people_c[k]});
+      if (body_fitter_ && record->has_pose) {
+        offerBody(frame, detections, filtered.people[person_of_centre[k]], ids[k], result);
+      }
     }
     return people;
+  }
+
+  // One person's keypoints and depth to the body thread, when their track is due for a fit.
+  void offerBody(const Frame& frame, const Detections& detections, const DualBBoxFilter::Person& person, int id,
+                 const TrackResult& result) {
+    const int frame_index = summary_.frames;
+    if (person.detection < 0 || person.detection >= static_cast<int>(detections.people.size())) return;
+    BodyObservation observation;
+    if (!body_fitter_->wants(id, frame_index) ||
+        !bodyKeypoints(detections.people[person.detection], &observation.keypoints)) {
+      return;
+    }
+    observation.track_id = id;
+    observation.frame_index = frame_index;
+    observation.timestamp = frame.timestamp;
+    observation.depth = person.fullDepth(frame.depth.size());
+    observation.intrinsics = frame.intrinsics;
+    observation.T_w_c = result.T_w_c;
+    observation.keyframe_id = result.keyframe_id;
+    observation.T_k_c = result.T_k_c;
+    body_fitter_->offer(std::move(observation));
   }
 
   FrameResult frameResult(const Frame& frame, const cv::Mat& static_depth, const cv::Mat& removed,
@@ -473,6 +500,8 @@ class SlamSystem::Pipeline {
   std::shared_ptr<Mapper> mapper_;
   HumanTracker humans_;
   const bool track_humans_;
+  std::shared_ptr<const BodyModel> body_model_;     // with bodies.fit and a detector
+  std::unique_ptr<BodyTrackFitter> body_fitter_;    // declared after the model it uses
   SlamRunSummary summary_;
   bool finished_ = false;
   std::chrono::steady_clock::time_point first_frame_, last_frame_end_;

@@ -74,6 +74,8 @@ class Mapper {
   // pf2::Error naming the file that could not be written. NOT thread safe.
   void exportMap(const std::string& directory, const ExportOptions& what);
   void exportMap(const std::string& directory) { exportMap(directory, ExportOptions()); }
+  // The same with the mesh already extracted (extractMesh()), for a caller that needs it too.
+  void exportMap(const std::string& directory, const ExportOptions& what, const TriangleMesh& mesh);
 
  private:
   struct Keyframe {

@@ -80,6 +80,8 @@ class BodyModel {
 
   // Poses the model. Thread safe (const).
   BodyMesh evaluate(const BodyParameters& parameters) const;
+  // The posed joints alone, as evaluate() gives them, without skinning the mesh. Thread safe.
+  std::array<Eigen::Vector3d, kBodyJointCount> posedJoints(const BodyParameters& parameters) const;
   // Rest-pose joints for a shape (no pose, no translation). Thread safe.
   std::array<Eigen::Vector3d, kBodyJointCount> restJoints(const Eigen::VectorXd& shape) const;
   // Rest-pose vertices for a shape (template + shape blend shapes), 3V values x0 y0 z0 x1 ...

@@ -1,6 +1,7 @@
 #pragma once
 // A person's trajectory (data object) and its file: `timestamp id x y z` lines, world frame,
 // metres, '#' comments (DESIGN.md). The same format holds pf2_synth's ground truth gt/people.txt.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,10 @@ struct HumanTrack {
   int id = 0;                               // stable small integer, 1, 2, ... in order of appearance
   std::vector<HumanTrackPoint> points;      // sorted by time, at most one per frame
 };
+
+// The colour of person `id` everywhere (scene files, pf2_view): distinct, bright colours that
+// read on a dark background, 8 of them in turn; RGB in [0, 1]. Thread safe.
+std::array<double, 3> personColour(int id);
 
 // Writes all points, sorted by time then id, with 6 decimals (microseconds, micrometres) and a
 // header comment, atomically (temporary file + rename). Throws pf2::Error naming the path on

@@ -7,9 +7,12 @@
 #include "pf2/core/settings.h"
 #include "pf2/detection/detector_factory.h"
 #include "pf2/filters/dual_bbox_filter.h"
+#include "pf2/humans/body_track_fitter.h"
+#include "pf2/humans/body_tracks.h"
 #include "pf2/humans/human_tracker.h"
 #include "pf2/registration/tracker.h"
 #include "pf2/slam/keyframe_prediction.h"
+#include "pf2/slam/scene_export.h"
 #include "pf2/surface/mapper.h"
 
 namespace pf2 {
@@ -44,6 +47,14 @@ struct SlamOptions {
   // from the body and a depth histogram that may be the other person's (0 = every person).
   double human_min_area = 0.001;
   HumanTracker::Options humans;
+  // Bodies (paper §III-C, eq. 4): each tracked person's body model fitted to their keypoints and
+  // depth in a thread of its own, placed in the world with the final poses; the tracks of
+  // humans.txt then follow the fitted pelvis. Needs a detector with keypoints (learned, movenet);
+  // without keypoints every body is a standing one at the eq. 2 centre.
+  bool fit_bodies = true;
+  BodyTrackFitter::Options bodies;
+  BodyTrackAssembler::Options body_tracks;
+  SceneOptions scene;                // scene.ply / scene.obj: the map with the bodies and tracks
   // Bounded memory on long runs: the newest 300 keyframes stay re-integrable (about 100 MB of
   // stored images), TSDF blocks farther than 10 m from the camera are dropped (a room is never
   // cut; a long corridor is).

@@ -13,8 +13,10 @@
 #include "pf2/core/frame_source.h"
 #include "pf2/core/pose.h"
 #include "pf2/core/stage_timer.h"
+#include "pf2/humans/body_tracks.h"
 #include "pf2/humans/human_track.h"
 #include "pf2/registration/tracker.h"
+#include "pf2/slam/scene_export.h"
 #include "pf2/slam/slam_options.h"
 
 namespace pf2 {
@@ -30,6 +32,8 @@ struct SlamRunSummary {
   int local_edges = 0;   // verified edges between near keyframes (the back end's local window)
   double seconds = 0;    // wall time of the run, from the first frame read to the last tracked
   double fps = 0;        // frames / seconds (end to end, decoding included)
+  int body_fits_offered = 0;  // people-frames sent to the body thread (bodies.fit_every apart per person)
+  int body_fits_skipped = 0;  // of those, dropped because the body thread was behind (interpolated)
   std::string detector;  // backend that ran ("none" when people were not removed)
 };
 
@@ -55,7 +59,10 @@ struct SlamResult {
   SlamRunSummary summary;
   Trajectory trajectory;                // one pose per posed frame, loop-corrected (T_w_c)
   bool has_humans = false;              // a detector ran and options.track_humans is set
-  std::vector<HumanTrack> humans;       // the people's centres in trajectory's world frame
+  std::vector<HumanTrack> humans;       // each person's pelvis (or eq. 2 centre), trajectory's world frame
+  std::vector<BodyTrack> bodies;        // each person's body per frame (with bodies.fit)
+  std::shared_ptr<const BodyModel> body_model;  // the model the bodies are of (with bodies.fit)
+  SceneOptions scene;                   // what writeSlamResult() puts into scene.ply / scene.obj
   std::vector<std::pair<double, TrackStatus>> frame_status;  // every frame's timestamp and status
   std::string tracker_stages_json;      // the tracker's sub-stage timings (StageStats::toJson)
   std::shared_ptr<Mapper> map;          // the fused map at the final poses; null without one

@@ -1,0 +1,105 @@
+#pragma once
+// BodyTrackFitter: fits the body model to each tracked person (paper §III-C) in a thread of its
+// own, so body fitting never holds up camera tracking. The front end offers observations (a
+// person's keypoints and depth in one frame, with the track id the human tracker gave); the fitter
+// takes one per track every `fit_every` frames into a bounded queue and drops what does not fit in
+// it (a skipped fit is interpolated later, BodyTrackAssembler). Per track it keeps:
+//   - a warm start: the track's previous fit, moved into the new camera frame by the camera's
+//     motion (as tracked then and now), when it is at most warm_start_gap old;
+//   - the shape: fitted freely for the first shape_fits fits of a track, then held at their
+//     mean (a person's shape does not change; one shape per track, fitted once);
+//   - the temporal term: later fits are pulled towards the warm start's pose.
+// Fits are in the camera frame with the frame's keyframe anchor, so the world placement (eq. 4)
+// can use the loop-corrected poses at the end.
+//
+// Thread safety: offer(), wants() and finish() from one thread (the front end); the fits run in the
+// fitter's own thread (or in offer() itself with Options::asynchronous false, for repeatable runs).
+#include <array>
+#include <map>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "pf2/body/body_fitter.h"
+#include "pf2/body/body_model.h"
+#include "pf2/core/camera_intrinsics.h"
+#include "pf2/core/work_queue.h"
+
+namespace pf2 {
+
+// One person in one frame, as the front end saw them.
+struct BodyObservation {
+  int track_id = 0;
+  int frame_index = 0;
+  double timestamp = 0;
+  std::array<BodyKeypoint, kCocoKeypointCount> keypoints;  // COCO-17, pixels
+  cv::Mat depth;               // CV_32F metres: the person's depth D_h^t (whole-frame size), may be empty
+  CameraIntrinsics intrinsics;
+  Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();  // as tracked now
+  int keyframe_id = -1;        // the frame's keyframe and pose relative to it, for the final placement
+  Eigen::Isometry3d T_k_c = Eigen::Isometry3d::Identity();
+};
+
+// A valid fit, in the camera frame of its frame.
+struct BodyTrackFit {
+  int track_id = 0;
+  int frame_index = 0;
+  double timestamp = 0;
+  int keyframe_id = -1;
+  Eigen::Isometry3d T_k_c = Eigen::Isometry3d::Identity();
+  BodyParameters body_c;
+  double cost = 0;
+};
+
+class BodyTrackFitter {
+ public:
+  struct Options {
+    int fit_every = 3;             // frames between two fits of one track (1 = every frame), [1, 300]
+    int queue_capacity = 6;        // observations waiting; more are dropped, [1, 1000]
+    int shape_fits = 5;            // fits of a track with a free shape before it is held, [1, 1000]
+    double warm_start_gap = 0.5;   // s: an older previous fit is not a start, [0, 10]
+    double weight_temporal = 1.0;  // pull towards the warm start's pose (BodyFitter::Options), [0, 100]
+    bool asynchronous = true;      // false: fit inside offer() (slower; the same fits on every run)
+    BodyFitter::Options fitter;
+  };
+
+  // The model must outlive the fitter. The ranges of the options are checked where they are
+  // declared as settings (bodies.* in slamSettings).
+  BodyTrackFitter(const BodyModel& model, const Options& options);
+  ~BodyTrackFitter();
+
+  // True when the track is due for a fit at this frame (cheap; call before preparing an observation).
+  bool wants(int track_id, int frame_index) const;
+  // Queues the observation; false when it was dropped (queue full). Never waits for a fit.
+  bool offer(BodyObservation observation);
+  // Waits for the queued fits and returns every valid fit, by track then time. Rethrows an error
+  // of the fitting thread. Call once; offer() may not be called after it.
+  std::vector<BodyTrackFit> finish();
+
+  int offered() const { return offered_; }
+  int dropped() const { return dropped_; }
+
+ private:
+  struct TrackState;
+  void run();
+  void fitOne(const BodyObservation& observation);
+  BodyFitInput fitInput(const BodyObservation& observation, const TrackState& track, BodyParameters* start) const;
+
+  const BodyModel& model_;
+  const Options options_;
+  BodyFitter fitter_;
+  BodyFitter fixed_shape_fitter_;  // the same with the shape held
+  WorkQueue<BodyObservation> queue_;
+  std::map<int, int> last_offered_;             // track id -> frame index (front end only)
+  std::map<int, TrackState> tracks_;            // fitting thread only
+  std::vector<BodyTrackFit> fits_;              // fitting thread only until finish()
+  std::exception_ptr error_;
+  int offered_ = 0, dropped_ = 0;
+  bool finished_ = false;
+  std::thread thread_;
+};
+
+}  // namespace pf2

@@ -1,0 +1,89 @@
+#pragma once
+// Each person's body through the run, in the world (data objects), and BodyTrackAssembler, which
+// builds them at the end of a run from the body fits (camera frame, BodyTrackFitter) and the
+// frames each person was seen in, with the loop-corrected camera poses:
+//   - a frame with a fit: the fit placed in the world by eq. 4, T_w_h = T_w_c T_c_h;
+//   - a frame between two fits at most max_gap apart: their poses interpolated (rotations
+//     slerped joint by joint, the pelvis moved linearly);
+//   - a frame near one fit only: that fit's pose at the person's eq. 2 centre, shifted by the
+//     offset between that fit's pelvis and its own frame's centre;
+//   - a frame with no fit in reach: a standing body (arms down) placed by eq. 4 at the eq. 2 centre.
+// Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
+// then smoothed over time (Gaussian, smoothing_sigma) and each body moved with its pelvis.
+#include <array>
+#include <map>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "pf2/body/body_model.h"
+#include "pf2/humans/body_track_fitter.h"
+#include "pf2/humans/human_track.h"
+
+namespace pf2 {
+
+// A person seen in one frame: their eq. 2 centre in the camera frame and the frame's keyframe anchor.
+struct PersonSighting {
+  int track_id = 0;
+  int frame_index = 0;
+  double timestamp = 0;
+  int keyframe_id = -1;
+  Eigen::Isometry3d T_k_c = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d p_c = Eigen::Vector3d::Zero();
+};
+
+struct BodyTrackFrame {
+  double timestamp = 0;
+  bool fitted = false;  // a fit of this very frame (else interpolated or placed by eq. 4)
+  // The body's root frame in the world: the root joint's rotation, origin at the pelvis. Rotation
+  // of T_w_h = rotation of body_w.pose[0].
+  Eigen::Isometry3d T_w_h = Eigen::Isometry3d::Identity();
+  // World-frame parameters: BodyModel::evaluate(body_w) is the person's mesh in the world.
+  BodyParameters body_w;
+  std::array<Eigen::Vector3d, kBodyJointCount> joints_w;
+  Eigen::Vector3d pelvis_w = Eigen::Vector3d::Zero();  // = joints_w[0] = T_w_h.translation()
+};
+
+struct BodyTrack {
+  int id = 0;
+  Eigen::VectorXd shape;               // the track's shape coefficients
+  int fits = 0;                        // frames with a fit of their own
+  std::vector<BodyTrackFrame> frames;  // every frame the person was seen in, by time
+};
+
+class BodyTrackAssembler {
+ public:
+  struct Options {
+    double max_gap = 1.0;          // s: fits further apart are not interpolated between, [0, 60]
+    double smoothing_sigma = 0.1;  // s: Gaussian smoothing of the pelvis over time (0 = none), [0, 5]
+  };
+
+  // The model must outlive the assembler.
+  BodyTrackAssembler(const BodyModel& model, const Options& options) : model_(model), options_(options) {}
+
+  // sightings: every frame each person was seen in (with a pose); fits: BodyTrackFitter::finish();
+  // keyframe_poses: the final T_w_k of every keyframe. Tracks in id order. Thread safe (const).
+  std::vector<BodyTrack> assemble(const std::vector<PersonSighting>& sightings, const std::vector<BodyTrackFit>& fits,
+                                  const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
+
+ private:
+  BodyTrack assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
+                          const std::vector<const BodyTrackFit*>& fitted,
+                          const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
+  BodyParameters fitInWorld(const BodyTrackFit& fit, const Eigen::VectorXd& shape,
+                            const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
+  BodyTrackFrame frameFromBody(double timestamp, bool fitted, const BodyParameters& body_w) const;
+  void smoothPelvis(BodyTrack* track) const;
+
+  const BodyModel& model_;
+  Options options_;
+};
+
+// The person tracks of humans.txt from the bodies: each frame's pelvis.
+std::vector<HumanTrack> pelvisTracks(const std::vector<BodyTrack>& bodies);
+
+// Interpolates two bodies of the same shape: each joint's rotation slerped, the pelvis (with the
+// root translation) moved linearly; t in [0, 1]. Thread safe.
+BodyParameters interpolateBodies(const BodyParameters& a, const BodyParameters& b, double t);
+
+}  // namespace pf2

@@ -1,0 +1,126 @@
+#include "pf2/humans/body_track_fitter.h"
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+namespace {
+
+// The world's up direction: pf2_slam's world frame is the first camera's, and a camera starts
+// roughly upright (image y pointing down), so up is that camera's -y. Only the fit's starting
+// orientation uses it.
+const Eigen::Vector3d kUpWorld(0.0, -1.0, 0.0);
+
+BodyFitter::Options withTemporal(BodyFitter::Options options, double weight_temporal, bool fit_shape) {
+  options.weight_temporal = weight_temporal;
+  options.fit_shape = fit_shape;
+  return options;
+}
+
+}  // namespace
+
+// What the fitting thread remembers of one track.
+struct BodyTrackFitter::TrackState {
+  bool has_previous = false;
+  BodyParameters previous_c;  // the last fit, in its camera frame
+  Eigen::Isometry3d T_w_c_previous = Eigen::Isometry3d::Identity();
+  double previous_time = 0;
+  int shape_fits = 0;         // fits that contributed to the shape
+  Eigen::VectorXd shape_sum = Eigen::VectorXd::Zero(BodyFitter::Options::kShapeCount);
+  bool shapeHeld(int needed) const { return shape_fits >= needed; }
+  Eigen::VectorXd shape() const { return shape_sum / std::max(1, shape_fits); }
+};
+
+BodyTrackFitter::BodyTrackFitter(const BodyModel& model, const Options& options)
+    : model_(model),
+      options_(options),
+      fitter_(model, withTemporal(options.fitter, options.weight_temporal, options.fitter.fit_shape)),
+      fixed_shape_fitter_(model, withTemporal(options.fitter, options.weight_temporal, false)),
+      queue_(static_cast<size_t>(std::max(1, options.queue_capacity))) {
+  if (options_.asynchronous) thread_ = std::thread([this] { run(); });
+}
+
+BodyTrackFitter::~BodyTrackFitter() {
+  queue_.close();
+  if (thread_.joinable()) thread_.join();
+}
+
+bool BodyTrackFitter::wants(int track_id, int frame_index) const {
+  const auto last = last_offered_.find(track_id);
+  return last == last_offered_.end() || frame_index - last->second >= options_.fit_every;
+}
+
+bool BodyTrackFitter::offer(BodyObservation observation) {
+  if (finished_) throw Error("BodyTrackFitter::offer: called after finish()");
+  ++offered_;
+  last_offered_[observation.track_id] = observation.frame_index;
+  if (!options_.asynchronous) {
+    fitOne(observation);
+    return true;
+  }
+  if (queue_.tryPush(std::move(observation))) return true;
+  ++dropped_;
+  return false;
+}
+
+std::vector<BodyTrackFit> BodyTrackFitter::finish() {
+  finished_ = true;
+  queue_.close();
+  if (thread_.joinable()) thread_.join();
+  if (error_) std::rethrow_exception(error_);
+  std::stable_sort(fits_.begin(), fits_.end(), [](const BodyTrackFit& a, const BodyTrackFit& b) {
+    return a.track_id != b.track_id ? a.track_id < b.track_id : a.frame_index < b.frame_index;
+  });
+  return fits_;
+}
+
+void BodyTrackFitter::run() {
+  try {
+    while (std::optional<BodyObservation> observation = queue_.pop()) fitOne(*observation);
+  } catch (...) {
+    error_ = std::current_exception();
+    while (queue_.pop()) {
+    }
+  }
+}
+
+// The fitter's input: keypoints, the person's depth points, the up direction, and the warm start
+// (the previous fit moved into this camera frame) in *start when there is one.
+BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackState& track, BodyParameters* start) const {
+  BodyFitInput input;
+  input.keypoints = o.keypoints;
+  if (!o.depth.empty()) input.points_c = depthPointsFromImage(o.depth, o.intrinsics);
+  input.up_c = o.T_w_c.linear().transpose() * kUpWorld;
+  if (track.has_previous && o.timestamp - track.previous_time <= options_.warm_start_gap) {
+    const Eigen::Isometry3d T_now_previous = o.T_w_c.inverse() * track.T_w_c_previous;
+    const Eigen::Vector3d rest_pelvis = model_.restJoints(track.previous_c.shape)[0];
+    *start = bodyToWorld(track.previous_c, T_now_previous, rest_pelvis);
+    if (track.shapeHeld(options_.shape_fits)) start->shape = track.shape();
+    input.previous = start;
+  }
+  return input;
+}
+
+void BodyTrackFitter::fitOne(const BodyObservation& o) {
+  TrackState& track = tracks_[o.track_id];
+  BodyParameters start;
+  const BodyFitInput input = fitInput(o, track, &start);
+  // The shape is held only where the start carries it (a warm start); otherwise the shape prior.
+  const bool hold_shape = input.previous && track.shapeHeld(options_.shape_fits);
+  const BodyFitResult result = (hold_shape ? fixed_shape_fitter_ : fitter_).fit(input, o.intrinsics);
+  if (!result.valid) return;
+  if (!track.shapeHeld(options_.shape_fits)) {
+    Eigen::VectorXd shape = Eigen::VectorXd::Zero(BodyFitter::Options::kShapeCount);
+    const Eigen::Index n = std::min<Eigen::Index>(shape.size(), result.parameters.shape.size());
+    shape.head(n) = result.parameters.shape.head(n);
+    track.shape_sum += shape;
+    ++track.shape_fits;
+  }
+  track.has_previous = true;
+  track.previous_c = result.parameters;
+  track.T_w_c_previous = o.T_w_c;
+  track.previous_time = o.timestamp;
+  fits_.push_back({o.track_id, o.frame_index, o.timestamp, o.keyframe_id, o.T_k_c, result.parameters, result.cost});
+}
+
+}  // namespace pf2
