@@ -160,6 +160,9 @@ int run(int argc, char** argv) {
   pf2::BodyParameters warm_start;
   std::vector<double> mpjpe, aligned, procrustes, fit_ms;
   std::array<std::vector<double>, pf2::kBodyJointCount> joint_errors;  // mm, per joint
+  // Signed pelvis error in the fitted body's frame (x to its left, y up, z forward), mm: the bias
+  // a keypoint convention or the depth table leaves.
+  Eigen::Vector3d pelvis_bias_sum = Eigen::Vector3d::Zero();
   int person_frames = 0, no_keypoints = 0, invalid = 0, unmatched = 0;
 
   const std::size_t frames = max_frames > 0 ? std::min<std::size_t>(max_frames, sequence.size()) : sequence.size();
@@ -241,6 +244,8 @@ int run(int argc, char** argv) {
         a += ((fit.joints_c[j] - fit.joints_c[0]) - (joints_c[j] - joints_c[0])).norm();
       }
       mpjpe.push_back(1000 * e / pf2::kBodyJointCount);
+      const Eigen::AngleAxisd root(fit.parameters.pose[0].norm(), fit.parameters.pose[0].normalized());
+      pelvis_bias_sum += 1000 * (root.toRotationMatrix().transpose() * (fit.joints_c[0] - joints_c[0]));
       // PA-MPJPE: after the similarity (rotation, translation, scale) that best aligns the fitted
       // joints to the true ones (Umeyama).
       Eigen::Matrix<double, 3, pf2::kBodyJointCount> fitted, truth_c;
@@ -266,6 +271,9 @@ int run(int argc, char** argv) {
     std::printf("MPJPE camera frame: mean %.1f  median %.1f mm\n", mean(mpjpe), median(mpjpe));
     std::printf("MPJPE root-aligned: mean %.1f  median %.1f mm\n", mean(aligned), median(aligned));
     std::printf("PA-MPJPE (similarity-aligned): mean %.1f  median %.1f mm\n", mean(procrustes), median(procrustes));
+    const Eigen::Vector3d bias = pelvis_bias_sum / static_cast<double>(mpjpe.size());
+    std::printf("pelvis signed error, body frame (x left, y up, z forward): mean %.1f %.1f %.1f mm\n", bias.x(),
+                bias.y(), bias.z());
     std::printf("per joint, median mm (camera frame):");
     for (int j = 0; j < pf2::kBodyJointCount; ++j) {
       std::printf(" %s %.0f", pf2::kBodyJointNames[j], median(joint_errors[j]));

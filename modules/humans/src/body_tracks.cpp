@@ -105,8 +105,32 @@ BodyTrackFrame BodyTrackAssembler::frameFromBody(double timestamp, bool fitted, 
   return frame;
 }
 
+// Drops the fits whose offset from their eq. 2 centre is far from the median offset of the track's fits.
+void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
+                                         std::vector<const BodyTrackFit*>* fitted) const {
+  if (offsets->size() < 3) return;  // no majority to judge by
+  Eigen::Vector3d median;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<double> values;
+    for (const Eigen::Vector3d& o : *offsets) values.push_back(o[axis]);
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    median[axis] = values[values.size() / 2];
+  }
+  size_t kept = 0;
+  for (size_t i = 0; i < offsets->size(); ++i) {
+    if (((*offsets)[i] - median).norm() > options_.max_offset_deviation) continue;
+    (*bodies)[kept] = (*bodies)[i];
+    (*offsets)[kept] = (*offsets)[i];
+    (*fitted)[kept] = (*fitted)[i];
+    ++kept;
+  }
+  bodies->resize(kept);
+  offsets->resize(kept);
+  fitted->resize(kept);
+}
+
 BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
-                                            const std::vector<const BodyTrackFit*>& fitted,
+                                            std::vector<const BodyTrackFit*> fitted,
                                             const std::map<int, Eigen::Isometry3d>& keyframe_poses) const {
   BodyTrack track;
   track.id = id;
@@ -127,6 +151,7 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     const Eigen::Vector3d pelvis = rest_pelvis + bodies.back().translation;
     offsets.push_back(own != seen.end() ? Eigen::Vector3d(pelvis - centre_w(**own)) : Eigen::Vector3d::Zero());
   }
+  dropOutlierFits(&bodies, &offsets, &fitted);
   size_t next = 0;  // first fit at or after the current frame
   for (const PersonSighting* s : seen) {
     while (next < fitted.size() && fitted[next]->frame_index < s->frame_index) ++next;

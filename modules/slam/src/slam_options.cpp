@@ -134,6 +134,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");
+  s.number("bodies.max_offset_deviation", &o.body_tracks.max_offset_deviation, 0.01, 10.0, "metres",
+           "a fit whose pelvis is further from where the person's other fits lie (relative to the eq. 2 centre) is dropped");
   s.integer("bodies.scene_every", &o.scene.bodies_every, 0, 100000, "frames",
             "scene.ply/.obj also show every n-th body along each track (0 = the last fitted body only)");
 }

@@ -8,7 +8,8 @@
 //   - a frame near one fit only: that fit's pose at the person's eq. 2 centre, shifted by the
 //     offset between that fit's pelvis and its own frame's centre;
 //   - a frame with no fit in reach: a standing body (arms down) placed by eq. 4 at the eq. 2 centre.
-// Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
+// A fit far from where the track's other fits lie relative to their eq. 2 centres is dropped first
+// (max_offset_deviation). Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
 // then smoothed over time (Gaussian, smoothing_sigma) and each body moved with its pelvis.
 #include <array>
 #include <map>
@@ -56,6 +57,10 @@ class BodyTrackAssembler {
   struct Options {
     double max_gap = 1.0;          // s: fits further apart are not interpolated between, [0, 60]
     double smoothing_sigma = 0.1;  // s: Gaussian smoothing of the pelvis over time (0 = none), [0, 5]
+    // A fit whose pelvis lies further than this from where the track's other fits put it relative
+    // to the eq. 2 centre (the median offset of its fits) is dropped as a wrong fit (a person
+    // partly hidden by another, keypoints of two people mixed). [0.01, 10] m
+    double max_offset_deviation = 0.25;
   };
 
   // The model must outlive the assembler.
@@ -68,8 +73,10 @@ class BodyTrackAssembler {
 
  private:
   BodyTrack assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
-                          const std::vector<const BodyTrackFit*>& fitted,
+                          std::vector<const BodyTrackFit*> fitted,
                           const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
+  void dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
+                       std::vector<const BodyTrackFit*>* fitted) const;
   BodyParameters fitInWorld(const BodyTrackFit& fit, const Eigen::VectorXd& shape,
                             const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
   BodyTrackFrame frameFromBody(double timestamp, bool fitted, const BodyParameters& body_w) const;

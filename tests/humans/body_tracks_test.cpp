@@ -1,0 +1,269 @@
+// The bodies' stage: fits in their own thread (BodyTrackFitter), their placement in the world by
+// eq. 4 with the final camera poses, interpolation and smoothing (BodyTrackAssembler), and
+// humans.json written and read back.
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "pf2/core/error.h"
+#include "pf2/humans/body_track_fitter.h"
+#include "pf2/humans/body_tracks.h"
+#include "pf2/humans/body_tracks_io.h"
+
+namespace pf2 {
+namespace {
+
+const BodyModel& model() {
+  static const BodyModel loaded = BodyModel::loadDefault();
+  return loaded;
+}
+
+// A person 2.5 m in front of the camera, walking pose, some shape.
+BodyParameters personInCamera() {
+  BodyParameters body;
+  body.shape[0] = 0.5;
+  body.shape[1] = -0.3;
+  body.pose[0] = Eigen::Vector3d(M_PI, 0, 0);  // upright in the camera (y down): rotated 180° about x
+  body.pose[1] = Eigen::Vector3d(-0.4, 0, 0);
+  body.pose[2] = Eigen::Vector3d(0.3, 0, 0);
+  body.pose[16] = Eigen::Vector3d(0, 0, -1.2);
+  body.pose[17] = Eigen::Vector3d(0, 0, 1.2);
+  body.translation = Eigen::Vector3d(0.2, 0.1, 2.5) - model().restJoints(body.shape)[0];
+  return body;
+}
+
+Eigen::Isometry3d cameraPose(double angle, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(angle, Eigen::Vector3d(0.2, 1, 0.1).normalized()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+BodyTrackFit fitAt(int frame, double stamp, const BodyParameters& body_c, int keyframe = 0) {
+  BodyTrackFit fit;
+  fit.track_id = 7;
+  fit.frame_index = frame;
+  fit.timestamp = stamp;
+  fit.keyframe_id = keyframe;
+  fit.body_c = body_c;
+  return fit;
+}
+
+PersonSighting sightingAt(int frame, double stamp, const Eigen::Vector3d& p_c, int keyframe = 0) {
+  PersonSighting s;
+  s.track_id = 7;
+  s.frame_index = frame;
+  s.timestamp = stamp;
+  s.keyframe_id = keyframe;
+  s.p_c = p_c;
+  return s;
+}
+
+BodyTrackAssembler::Options noSmoothing() {
+  BodyTrackAssembler::Options options;
+  options.smoothing_sigma = 0;
+  return options;
+}
+
+// Eq. 4 with a known camera pose: the fitted body's joints in the world are T_w_c times its joints
+// in the camera, with the keyframe's final (loop-corrected) pose, not the one tracked at the time.
+TEST(BodyTrackAssembler, PlacesAFitByEq4WithTheFinalKeyframePose) {
+  const BodyParameters body_c = personInCamera();
+  const Eigen::Isometry3d T_w_k = cameraPose(0.6, Eigen::Vector3d(1, -2, 0.5));
+  const Eigen::Isometry3d T_k_c = cameraPose(-0.2, Eigen::Vector3d(0.1, 0, 0.05));
+  BodyTrackFit fit = fitAt(0, 10.0, body_c, 3);
+  fit.T_k_c = T_k_c;
+  PersonSighting seen = sightingAt(0, 10.0, Eigen::Vector3d(0.2, 0.1, 2.4), 3);
+  seen.T_k_c = T_k_c;
+  const BodyTrackAssembler assembler(model(), noSmoothing());
+  const std::vector<BodyTrack> tracks = assembler.assemble({seen}, {fit}, {{3, T_w_k}});
+  ASSERT_EQ(tracks.size(), 1u);
+  ASSERT_EQ(tracks[0].frames.size(), 1u);
+  const BodyTrackFrame& frame = tracks[0].frames[0];
+  EXPECT_TRUE(frame.fitted);
+  const auto joints_c = model().posedJoints(body_c);
+  const Eigen::Isometry3d T_w_c = T_w_k * T_k_c;
+  for (int j = 0; j < kBodyJointCount; ++j) EXPECT_LT((frame.joints_w[j] - T_w_c * joints_c[j]).norm(), 1e-9) << j;
+  // T_w_h: the root frame in the world, at the pelvis.
+  EXPECT_LT((frame.T_w_h.translation() - T_w_c * joints_c[0]).norm(), 1e-9);
+  const Eigen::Matrix3d R_root_c = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_LT((frame.T_w_h.linear() - T_w_c.linear() * R_root_c).norm(), 1e-9);
+  // The track of humans.txt is the pelvis.
+  const std::vector<HumanTrack> people = pelvisTracks(tracks);
+  ASSERT_EQ(people.size(), 1u);
+  EXPECT_LT((people[0].points[0].p_w - T_w_c * joints_c[0]).norm(), 1e-9);
+}
+
+// Between two fits the pelvis moves linearly and the joints rotate halfway (slerp); before the
+// first fit (within max_gap) the body is the fit's, moved with the eq. 2 centre; far from any fit
+// a standing body stands at the centre.
+TEST(BodyTrackAssembler, InterpolatesBetweenFitsAndPlacesTheRest) {
+  BodyParameters a = personInCamera(), b = personInCamera();
+  b.pose[1] = Eigen::Vector3d(0.2, 0, 0);
+  b.translation += Eigen::Vector3d(0.3, 0, 0);
+  const Eigen::Vector3d centre(0.2, 0.1, 2.4);
+  std::vector<PersonSighting> seen;
+  for (int f : {0, 3, 4, 5, 6, 80}) seen.push_back(sightingAt(f, 0.1 * f, centre + Eigen::Vector3d(0.01 * f, 0, 0)));
+  const BodyTrackAssembler assembler(model(), noSmoothing());
+  const std::vector<BodyTrack> tracks =
+      assembler.assemble(seen, {fitAt(4, 0.4, a), fitAt(6, 0.6, b)}, {{0, Eigen::Isometry3d::Identity()}});
+  ASSERT_EQ(tracks.size(), 1u);
+  const std::vector<BodyTrackFrame>& frames = tracks[0].frames;
+  ASSERT_EQ(frames.size(), 6u);
+  EXPECT_FALSE(frames[0].fitted);
+  EXPECT_TRUE(frames[2].fitted);
+  EXPECT_FALSE(frames[3].fitted);
+  EXPECT_TRUE(frames[4].fitted);
+  // Frame 5, halfway: the pelvis halfway, the left hip's rotation halfway.
+  EXPECT_LT((frames[3].pelvis_w - 0.5 * (frames[2].pelvis_w + frames[4].pelvis_w)).norm(), 1e-9);
+  EXPECT_NEAR(frames[3].body_w.pose[1].x(), -0.1, 1e-9);
+  // Frame 3, 0.1 s before the first fit: that fit's body, moved by the centre's motion (-1 cm).
+  EXPECT_LT((frames[1].pelvis_w - (frames[2].pelvis_w + Eigen::Vector3d(-0.01, 0, 0))).norm(), 1e-9);
+  // Frame 80, 7.4 s after the last fit: a standing body with its pelvis at the eq. 2 centre,
+  // facing the camera as eq. 4's human frame does.
+  EXPECT_LT((frames[5].pelvis_w - (centre + Eigen::Vector3d(0.8, 0, 0))).norm(), 1e-9);
+  const Eigen::Matrix3d R_x180 = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_LT((frames[5].T_w_h.linear() - R_x180).norm(), 1e-9);
+  // One shape for the whole track: the mean of its fits.
+  for (const BodyTrackFrame& f : frames) EXPECT_LT((f.body_w.shape - a.shape).norm(), 1e-12);
+}
+
+// A fit far off where the track's other fits lie (relative to the eq. 2 centre) is dropped.
+TEST(BodyTrackAssembler, DropsAFitFarFromTheOthers) {
+  const BodyParameters body = personInCamera();
+  BodyParameters wrong = body;
+  wrong.translation += Eigen::Vector3d(0, 0, 0.8);  // 80 cm behind the person
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  for (int f = 0; f < 5; ++f) {
+    seen.push_back(sightingAt(f, 0.1 * f, Eigen::Vector3d(0.2, 0.1, 2.4)));
+    fits.push_back(fitAt(f, 0.1 * f, f == 2 ? wrong : body));
+  }
+  const BodyTrackAssembler assembler(model(), noSmoothing());
+  const std::vector<BodyTrack> tracks = assembler.assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}});
+  ASSERT_EQ(tracks[0].frames.size(), 5u);
+  EXPECT_EQ(tracks[0].fits, 4);
+  EXPECT_FALSE(tracks[0].frames[2].fitted);
+  EXPECT_LT((tracks[0].frames[2].pelvis_w - tracks[0].frames[1].pelvis_w).norm(), 1e-9);
+}
+
+// humans.json holds what the assembler made; the joints follow from pose, shape and pelvis
+// within 1 mm (the file's 6 decimals).
+TEST(BodyTracksJson, WritesAndReadsBackAndTheJointsFollowFromPoseAndShape) {
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  for (int f = 0; f < 4; ++f) {
+    BodyParameters body = personInCamera();
+    body.pose[4] = Eigen::Vector3d(0.3 * f, 0, 0);
+    seen.push_back(sightingAt(f, 1700000000.0 + f / 30.0, Eigen::Vector3d(0.2, 0.1, 2.4)));
+    if (f != 2) fits.push_back(fitAt(f, seen.back().timestamp, body));
+  }
+  const std::vector<BodyTrack> tracks =
+      BodyTrackAssembler(model(), BodyTrackAssembler::Options())
+          .assemble(seen, fits, {{0, cameraPose(0.3, Eigen::Vector3d(0.5, 0.2, -1))}});
+  const std::string path = testing::TempDir() + "pf2_humans.json";
+  writeBodyTracksJson(path, tracks);
+  const std::vector<BodyTrack> read = readBodyTracksJson(path);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(read[0].id, 7);
+  ASSERT_EQ(read[0].frames.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    const BodyTrackFrame& f = read[0].frames[i];
+    EXPECT_NEAR(f.timestamp, seen[i].timestamp, 1e-6);
+    EXPECT_EQ(f.fitted, i != 2);
+    EXPECT_LT((f.T_w_h.matrix() - tracks[0].frames[i].T_w_h.matrix()).cwiseAbs().maxCoeff(), 1e-6);
+    // Recomputed: the model with the file's pose and shape, moved so that its pelvis is pelvis_w.
+    BodyParameters body = f.body_w;
+    const auto posed = model().posedJoints(body);
+    for (int j = 0; j < kBodyJointCount; ++j) {
+      const Eigen::Vector3d joint = posed[j] - posed[0] + f.pelvis_w;
+      EXPECT_LT((joint - f.joints_w[j]).norm(), 1e-3) << "frame " << i << " joint " << j;
+    }
+    EXPECT_LT((f.joints_w[0] - f.pelvis_w).norm(), 1e-6);
+  }
+}
+
+TEST(BodyTracksJson, RefusesBrokenFilesNamingWhatIsWrong) {
+  const std::string path = testing::TempDir() + "pf2_broken_humans.json";
+  const auto refuses = [&](const std::string& text, const std::string& expected) {
+    FILE* f = std::fopen(path.c_str(), "w");
+    std::fputs(text.c_str(), f);
+    std::fclose(f);
+    try {
+      readBodyTracksJson(path);
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  };
+  refuses("{\"tracks\": [", "not a JSON document");
+  refuses("[1, 2]", "expected {\"tracks\"");
+  refuses("{\"tracks\": [{\"id\": 1, \"frames\": [{\"timestamp\": 1}]}]}", "\"T_w_h\"");
+  refuses("{\"tracks\": [{\"id\": 1, \"frames\": [{\"timestamp\": 1, \"T_w_h\": [1, 2]}]}]}", "list of 16 numbers");
+}
+
+// The fitter on a person whose keypoints are their own joints projected into the camera: one
+// valid fit per fit_every frames, near the true body; a full queue drops observations and counts them.
+TEST(BodyTrackFitter, FitsEveryNthFrameAndCountsWhatItDrops) {
+  const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
+  const BodyParameters truth = personInCamera();
+  const auto joints = model().posedJoints(truth);
+  BodyObservation observation;
+  observation.track_id = 1;
+  observation.intrinsics = K;
+  observation.T_w_c = Eigen::Isometry3d::Identity();
+  observation.keyframe_id = 0;
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    const int joint = kCocoToBodyJoint[k].joint;
+    if (joint < 0) continue;
+    const Eigen::Vector3d& p = joints[joint];
+    observation.keypoints[k] = {K.fx * p.x() / p.z() + K.cx, K.fy * p.y() / p.z() + K.cy, 0.9};
+  }
+  BodyTrackFitter::Options options;
+  options.fit_every = 3;
+  options.asynchronous = false;
+  BodyTrackFitter fitter(model(), options);
+  int offered = 0;
+  for (int frame = 0; frame < 9; ++frame) {
+    if (!fitter.wants(1, frame)) continue;
+    BodyObservation o = observation;
+    o.frame_index = frame;
+    o.timestamp = frame / 30.0;
+    EXPECT_TRUE(fitter.offer(o));
+    ++offered;
+  }
+  EXPECT_EQ(offered, 3);
+  const std::vector<BodyTrackFit> fits = fitter.finish();
+  ASSERT_EQ(fits.size(), 3u);
+  for (const BodyTrackFit& fit : fits) {
+    const auto fitted = model().posedJoints(fit.body_c);
+    // Keypoints alone fix the body up to its distance: the shoulders' direction is right.
+    const Eigen::Vector3d shoulders = (fitted[16] - fitted[17]).normalized();
+    EXPECT_GT(shoulders.dot((joints[16] - joints[17]).normalized()), 0.95) << fit.frame_index;
+  }
+  EXPECT_EQ(fits[1].frame_index, 3);
+  EXPECT_THROW(fitter.offer(observation), Error);
+
+  // Asynchronous with a queue of one: offers made faster than fits drop, and are counted.
+  options.asynchronous = true;
+  options.queue_capacity = 1;
+  options.fit_every = 1;
+  BodyTrackFitter busy(model(), options);
+  int accepted = 0;
+  for (int frame = 0; frame < 20; ++frame) {
+    BodyObservation o = observation;
+    o.frame_index = frame;
+    o.timestamp = frame / 30.0;
+    accepted += busy.offer(o) ? 1 : 0;
+  }
+  const std::vector<BodyTrackFit> busy_fits = busy.finish();
+  EXPECT_EQ(busy.offered(), 20);
+  EXPECT_EQ(busy.dropped(), 20 - accepted);
+  EXPECT_GT(busy.dropped(), 0);
+  EXPECT_EQ(static_cast<int>(busy_fits.size()), accepted);
+}
+
+}  // namespace
+}  // namespace pf2
