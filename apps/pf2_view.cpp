@@ -36,6 +36,7 @@
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
 #include "pf2/core/settings.h"
+#include "pf2/humans/body_tracks_io.h"
 #include "pf2/humans/human_track.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/surface/triangle_mesh.h"
@@ -48,7 +49,8 @@ const char* kUsage =
     "Usage: pf2_view RUN_DIR [options]\n"
     "Shows a pf2_slam output folder in 3D: the static map (map.ply, vertex colours), the camera\n"
     "trajectory (trajectory.txt, white polyline, a camera frustum every N poses, the first one green)\n"
-    "and each person's track (humans.txt, one colour per id, the id written at its last position).\n"
+    "and each person's track (humans.txt, one colour per id, the id written at its last position),\n"
+    "with their bodies (humans.json, when the run fitted them) in the same colours.\n"
     "trajectory.txt is required; a missing map.ply or humans.txt is skipped with a note.\n"
     "\n"
     "Options:\n"
@@ -58,13 +60,17 @@ const char* kUsage =
     "  --size WxH          window size in pixels (default 1280x800)\n"
     "  --camera-every N    draw a camera frustum every N poses (default 30; 0: none)\n"
     "  -h, --help          this text\n"
-    "--no-map, --size and --camera-every are the settings view.map, view.size, view.camera_every:\n";
+    "  --body-time S       show the bodies at S seconds from their first frame (default: each\n"
+    "                      person's last fitted body)\n"
+    "--no-map, --size, --camera-every and --body-time are the settings view.map, view.size,\n"
+    "view.camera_every and view.body_time:\n";
 const char* kKeys =
     "\n"
     "Keys (PCL's defaults): r reset the view to fit everything, left drag rotate, middle drag or\n"
     "shift+left drag pan, wheel zoom, f fly to the point under the mouse, w wireframe, s surface,\n"
     "g scale grid, j save a screenshot, o perspective/parallel projection, c print the camera,\n"
-    "+/- point size, h print all keys to the terminal, q quit.\n"
+    "+/- point size, h print all keys to the terminal, q quit. Bodies: , and . step one frame back\n"
+    "and forward, < and > 30 frames (the first step goes to the last frame).\n"
     "Exit status: 0 on success, 1 on bad input (the error line names the file).\n";
 
 // What a run folder holds, read and validated before any window exists.
@@ -72,6 +78,7 @@ struct RunData {
   pf2::Trajectory trajectory;
   pf2::TriangleMesh map;
   std::vector<pf2::HumanTrack> people;
+  std::vector<pf2::BodyTrack> bodies;  // humans.json, when the run fitted bodies
   bool has_map = false;
 };
 
@@ -102,6 +109,8 @@ RunData loadRun(const fs::path& dir, bool with_map) {
   } else {
     std::printf("note: %s not found, no people shown\n", humans_path.string().c_str());
   }
+  const fs::path bodies_path = dir / "humans.json";
+  if (fs::exists(bodies_path)) run.bodies = pf2::readBodyTracksJson(bodies_path.string());
   return run;
 }
 
@@ -111,6 +120,7 @@ struct ViewSettings {
   bool with_map = true;
   std::array<int, 2> size{1280, 800};
   int camera_every = 30;
+  double body_time = -1;  // s from the first body frame; < 0: each person's last fitted body
 };
 
 pf2::Settings declareViewSettings(ViewSettings* v) {
@@ -130,6 +140,8 @@ pf2::Settings declareViewSettings(ViewSettings* v) {
       [v] { return std::to_string(v->size[0]) + "x" + std::to_string(v->size[1]); }, "WxH, sides 64..8192",
       "window (or screenshot) size in pixels");
   s.integer("view.camera_every", &v->camera_every, 0, 1000000, "poses", "a camera frustum every this many poses (0: none)");
+  s.number("view.body_time", &v->body_time, -1.0, 1e7, "seconds",
+           "show the bodies of humans.json at this time from their first frame (-1: each person's last fitted body)");
   return s;
 }
 
@@ -241,6 +253,85 @@ void saveScreenshot(vtkRenderWindow* window, const std::string& path) {
   }
 }
 
+// The people's bodies (humans.json) at one moment: each person's last fitted body (the view
+// scene.ply gives), or every body of one frame, stepped through time with keys.
+class BodyPlayer {
+ public:
+  BodyPlayer(const std::vector<pf2::BodyTrack>& tracks, const pf2::BodyModel* model) : tracks_(tracks), model_(model) {
+    for (const pf2::BodyTrack& track : tracks_) {
+      for (const pf2::BodyTrackFrame& f : track.frames) times_.push_back(f.timestamp);
+    }
+    std::sort(times_.begin(), times_.end());
+    times_.erase(std::unique(times_.begin(), times_.end()), times_.end());
+  }
+
+  bool empty() const { return times_.empty(); }
+
+  void showLastFitted(pcl::visualization::PCLVisualizer& viewer) {
+    clear(viewer);
+    for (const pf2::BodyTrack& track : tracks_) {
+      if (track.frames.empty()) continue;
+      auto last = std::find_if(track.frames.rbegin(), track.frames.rend(),
+                               [](const pf2::BodyTrackFrame& f) { return f.fitted; });
+      add(viewer, track.id, last != track.frames.rend() ? *last : track.frames.back());
+    }
+    status(viewer, "bodies: each person's last fitted body   , . step a frame   < > 30 frames");
+  }
+
+  // The bodies of frame `index` of the run's body frames (clamped to the first and last).
+  void showFrame(pcl::visualization::PCLVisualizer& viewer, long index) {
+    current_ = std::clamp<long>(index, 0, static_cast<long>(times_.size()) - 1);
+    const double t = times_[current_];
+    clear(viewer);
+    for (const pf2::BodyTrack& track : tracks_) {
+      const auto f = std::find_if(track.frames.begin(), track.frames.end(),
+                                  [t](const pf2::BodyTrackFrame& frame) { return std::abs(frame.timestamp - t) < 1e-7; });
+      if (f != track.frames.end()) add(viewer, track.id, *f);
+    }
+    char text[160];
+    std::snprintf(text, sizeof(text), "bodies at t = %.2f s (frame %ld of %zu)   , . step a frame   < > 30 frames",
+                  t - times_.front(), current_ + 1, times_.size());
+    status(viewer, text);
+  }
+
+  // The bodies of the frame nearest `seconds` after the first body frame.
+  void showAt(pcl::visualization::PCLVisualizer& viewer, double seconds) {
+    const auto it = std::lower_bound(times_.begin(), times_.end(), times_.front() + seconds);
+    showFrame(viewer, static_cast<long>(it - times_.begin()));
+  }
+
+  // From the last fitted bodies, stepping starts at the end.
+  void step(pcl::visualization::PCLVisualizer& viewer, long frames) {
+    showFrame(viewer, current_ < 0 ? static_cast<long>(times_.size()) - 1 : current_ + frames);
+  }
+
+ private:
+  void add(pcl::visualization::PCLVisualizer& viewer, int id, const pf2::BodyTrackFrame& frame) {
+    pcl::PolygonMesh mesh;
+    pf2::toPolygonMesh(model_->evaluate(frame.body_w), &mesh);
+    const std::string name = "body_" + std::to_string(id);
+    viewer.addPolygonMesh(mesh, name);
+    const std::array<double, 3> rgb = pf2::personColour(id);
+    viewer.setPointCloudRenderingProperties(pcl::visualization::PCL_VISUALIZER_COLOR, rgb[0], rgb[1], rgb[2], name);
+    shown_.push_back(name);
+  }
+  void clear(pcl::visualization::PCLVisualizer& viewer) {
+    for (const std::string& name : shown_) viewer.removePolygonMesh(name);
+    shown_.clear();
+  }
+  void status(pcl::visualization::PCLVisualizer& viewer, const std::string& text) {
+    if (!viewer.updateText(text, 10, 50, 12, 0.9, 0.9, 0.9, "bodies")) {
+      viewer.addText(text, 10, 50, 12, 0.9, 0.9, 0.9, "bodies");
+    }
+  }
+
+  const std::vector<pf2::BodyTrack>& tracks_;
+  const pf2::BodyModel* model_;
+  std::vector<double> times_;  // every body frame's timestamp, sorted, once each
+  long current_ = -1;          // index into times_; -1 = the last fitted bodies
+  std::vector<std::string> shown_;
+};
+
 // The run folder's own name for the legend ("view_run" for "out/view_run/" or ".").
 std::string runName(const fs::path& dir) {
   fs::path path = fs::absolute(dir).lexically_normal();
@@ -249,7 +340,7 @@ std::string runName(const fs::path& dir) {
 }
 
 // Height of the legend band at the bottom of the window, pixels.
-constexpr int kLegendPixels = 50;
+constexpr int kLegendPixels = 70;
 
 // Distance from `centre` along `back` at which every point lies within tan_h and tan_v of the
 // view axis: a tighter framing than VTK's ResetCamera, which fits the bounding sphere.
@@ -343,7 +434,8 @@ int run(int argc, char** argv) {
   pf2::readCommandLineSettings(&cli, &settings,
                                {{"--no-map", "view.map", "false"},
                                 {"--size", "view.size"},
-                                {"--camera-every", "view.camera_every"}});
+                                {"--camera-every", "view.camera_every"},
+                                {"--body-time", "view.body_time"}});
   const bool with_map = view.with_map;
   const std::array<int, 2>& size = view.size;
   const int camera_every = view.camera_every;
@@ -371,6 +463,24 @@ int run(int argc, char** argv) {
   if (screenshot) viewer.getRenderWindow()->SetOffScreenRendering(1);
   viewer.setSize(size[0], size[1]);
   buildScene(viewer, data, camera_every, runName(dir), size[0], size[1]);
+  // The bodies (humans.json) at the chosen moment; keys step through time.
+  std::unique_ptr<pf2::BodyModel> body_model;
+  std::unique_ptr<BodyPlayer> bodies;
+  if (!data.bodies.empty()) {
+    body_model = std::make_unique<pf2::BodyModel>(pf2::BodyModel::loadDefault());
+    bodies = std::make_unique<BodyPlayer>(data.bodies, body_model.get());
+    if (view.body_time < 0) {
+      bodies->showLastFitted(viewer);
+    } else {
+      bodies->showAt(viewer, view.body_time);
+    }
+    viewer.registerKeyboardCallback([&viewer, &bodies](const pcl::visualization::KeyboardEvent& event) {
+      if (!event.keyDown()) return;
+      const std::string key = event.getKeySym();
+      const long step = key == "period" ? 1 : key == "comma" ? -1 : key == "greater" ? 30 : key == "less" ? -30 : 0;
+      if (step != 0) bodies->step(viewer, step);
+    });
+  }
   if (screenshot) {
     saveScreenshot(viewer.getRenderWindow(), *screenshot);
     std::printf("wrote %s (%dx%d)\n", screenshot->c_str(), size[0], size[1]);

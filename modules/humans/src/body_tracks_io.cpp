@@ -35,6 +35,8 @@ void writeFrame(std::ostream& out, const BodyTrackFrame& f) {
   }
   out << "],\"shape\":[";
   writeNumbers(out, f.body_w.shape.data(), static_cast<int>(f.body_w.shape.size()));
+  out << "],\"translation\":[";
+  writeNumbers(out, f.body_w.translation.data(), 3);
   out << "],\"joints_w\":[";
   for (int j = 0; j < kBodyJointCount; ++j) {
     out << (j ? ",[" : "[");
@@ -79,6 +81,8 @@ BodyTrackFrame readFrame(const nlohmann::json& j) {
   if (!j.contains("shape") || !j["shape"].is_array()) throw Error("\"shape\" must be a list of numbers");
   const std::vector<double> shape = numbers(j, "shape", j["shape"].size());
   f.body_w.shape = Eigen::Map<const Eigen::VectorXd>(shape.data(), static_cast<Eigen::Index>(shape.size()));
+  const std::vector<double> translation = numbers(j, "translation", 3);
+  f.body_w.translation = Eigen::Vector3d(translation[0], translation[1], translation[2]);
   if (!j.contains("joints_w") || !j["joints_w"].is_array() || j["joints_w"].size() != kBodyJointCount) {
     throw Error("\"joints_w\" must be a list of 24 [x, y, z]");
   }

@@ -1,12 +1,12 @@
 #pragma once
 // humans.json: each person's body per frame (README "Outputs"):
 //   {"tracks": [{"id": 1, "frames": [{"timestamp": t, "T_w_h": [16 numbers, row-major],
-//     "pose": [72 axis-angle numbers], "shape": [10 numbers], "joints_w": [[x, y, z] x 24],
-//     "pelvis_w": [x, y, z], "fitted": true|false}]}]}
+//     "pose": [72 axis-angle numbers], "shape": [10 numbers], "translation": [x, y, z],
+//     "joints_w": [[x, y, z] x 24], "pelvis_w": [x, y, z], "fitted": true|false}]}]}
 // World frame of trajectory.txt, metres and radians. "pose" holds the 24 joint rotations in SMPL
 // order, the root's being its rotation in the world (= the rotation of T_w_h); the body model
-// evaluated with pose and shape and moved so that its pelvis lies at pelvis_w gives joints_w and
-// the person's mesh.
+// evaluated with pose, shape and translation (SMPL's root translation, added after posing) gives
+// joints_w and the person's mesh in the world; its pelvis is pelvis_w.
 #include <string>
 #include <vector>
 
@@ -18,9 +18,7 @@ namespace pf2 {
 // the path. Thread safe (for different paths).
 void writeBodyTracksJson(const std::string& path, const std::vector<BodyTrack>& tracks);
 
-// Reads humans.json back. body_w.translation is not stored in the file and comes back zero (it is
-// pelvis_w minus the model's rest pelvis for the shape). Throws pf2::Error naming the path and what
-// is wrong (not JSON, a missing field, a list of the wrong length, a non-finite number). Thread safe.
+// Reads humans.json back. Throws pf2::Error naming the path and what is wrong (not JSON, a missing field, a list of the wrong length, a non-finite number). Thread safe.
 std::vector<BodyTrack> readBodyTracksJson(const std::string& path);
 
 }  // namespace pf2
