@@ -22,6 +22,7 @@
 #include "pf2/core/error.h"
 #include "pf2/core/text_lines.h"
 #include "pf2/detection/detector_factory.h"
+#include "pf2/eval/body_metrics.h"
 #include "pf2/detection/gt_detector.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/io/tum_sequence.h"
@@ -40,25 +41,8 @@ const char* kUsage =
     "to people by box IoU >= 0.3. --temporal starts each fit from the same person's previous fit.\n"
     "--no-depth fits the keypoints alone. --weight-* override BodyFitter::Options.\n";
 
-using Joints = std::array<Eigen::Vector3d, pf2::kBodyJointCount>;
-using Key = std::pair<long long, int>;  // (timestamp in microseconds, person id)
-
-long long micros(double stamp) { return std::llround(stamp * 1e6); }
-
-std::map<Key, Joints> readJoints(const std::string& path) {
-  std::map<Key, Joints> joints;
-  pf2::forEachDataLine(path, "joints file", [&](const std::string& line, int number) {
-    std::istringstream fields(line);
-    double stamp = 0;
-    int id = 0;
-    Joints j;
-    bool ok = static_cast<bool>(fields >> stamp >> id);
-    for (auto& p : j) ok = ok && static_cast<bool>(fields >> p.x() >> p.y() >> p.z());
-    if (!ok) throw pf2::fileError(path, number, "expected 'timestamp id' and 72 joint coordinates");
-    joints[{micros(stamp), id}] = j;
-  });
-  return joints;
-}
+using Joints = pf2::BodyJoints;
+long long micros(double stamp) { return pf2::timestampMicros(stamp); }
 
 // The people in view of each frame (gt/boxes.txt), by timestamp in microseconds.
 std::map<long long, std::vector<pf2::GroundTruthBox>> readBoxes(const std::string& path) {
@@ -138,7 +122,7 @@ int run(int argc, char** argv) {
   const pf2::CameraIntrinsics K = sequence.intrinsics();
   const pf2::Trajectory ground_truth = sequence.groundTruth();
   if (ground_truth.empty()) throw pf2::fileError(folder + "/groundtruth.txt", "no ground-truth poses");
-  const auto joints_w = readJoints(folder + "/gt/joints.txt");
+  const auto joints_w = pf2::readGroundTruthJoints(folder + "/gt/joints.txt");
   const auto boxes = readBoxes(folder + "/gt/boxes.txt");
 
   std::unique_ptr<pf2::HumanDetector> detector;

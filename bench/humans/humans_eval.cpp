@@ -4,6 +4,7 @@
 // pf2_slam_map_eval does for the map. Person-frames counted: those in gt/boxes.txt (the person is
 // in view) with a visible fraction of at least --min-visible, within the run's time span.
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -13,7 +14,9 @@
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
 #include "pf2/detection/gt_detector.h"
+#include "pf2/eval/body_metrics.h"
 #include "pf2/eval/human_metrics.h"
+#include "pf2/humans/body_tracks_io.h"
 #include "pf2/humans/human_track.h"
 #include "pf2/humans/human_tracker.h"
 #include "pf2/io/trajectory_io.h"
@@ -27,7 +30,11 @@ const char* kUsage =
     "SEQUENCE_DIR/gt/people.txt: per-frame optimal matching within M metres (default 0.5),\n"
     "position error, identity switches, fragmentations and recall of the person-frames in view\n"
     "(gt/boxes.txt, visible fraction >= F, default 0). --reassociate drops the run's ids and\n"
-    "associates its centres again with HumanTracker (same centres, other association options).\n";
+    "associates its centres again with HumanTracker (same centres, other association options).\n"
+    "When RUN_DIR has humans.json, its bodies are scored too against SEQUENCE_DIR/gt/joints.txt:\n"
+    "MPJPE (mean per-joint position error, the 24 joints, world frame) of each body frame matched to\n"
+    "the true person whose pelvis is nearest within M, over all body frames and over fitted ones,\n"
+    "and the median error of each joint.\n";
 
 // The run's centres given new ids by a HumanTracker, frame by frame (every frame of the run,
 // so frames without a centre age the tracks as they do in pf2_slam).
@@ -50,6 +57,16 @@ std::set<std::pair<double, int>> peopleInView(const std::string& path, double mi
     if (b.visible_fraction >= min_visible) in_view.insert({b.timestamp, b.id});
   }
   return in_view;
+}
+
+void printBodyMetrics(const pf2::BodyMetrics& b) {
+  std::printf("bodies: %d body frames matched (%d unmatched), %d fitted\n", b.body_frames, b.unmatched,
+              b.mpjpe_fitted.count);
+  std::printf("MPJPE all frames: mean %.1f median %.1f mm; fitted frames: mean %.1f median %.1f mm\n",
+              1000 * b.mpjpe.mean, 1000 * b.mpjpe.median, 1000 * b.mpjpe_fitted.mean, 1000 * b.mpjpe_fitted.median);
+  std::printf("per joint, median mm:");
+  for (int j = 0; j < pf2::kBodyJointCount; ++j) std::printf(" %s %.0f", pf2::kBodyJointNames[j], 1000 * b.joint_median[j]);
+  std::printf("\n");
 }
 
 void printStats(const char* name, const pf2::ErrorStatistics& s) {
@@ -116,13 +133,27 @@ int run(int argc, char** argv) {
                 p.gt_id, p.track, p.matched, p.frames, p.id_switches, p.fragmentations, p.error.rmse,
                 p.mean_offset.x(), p.mean_offset.y(), p.mean_offset.z(), p.error_without_offset.rmse);
   }
+  std::string body_json;
+  if (!association && std::ifstream(run_dir + "/humans.json")) {
+    const pf2::BodyMetrics b = pf2::evaluateBodies(pf2::readBodyTracksJson(run_dir + "/humans.json"), T_gt_est,
+                                                   pf2::readGroundTruthJoints(sequence + "/gt/joints.txt"),
+                                                   options.match_distance);
+    printBodyMetrics(b);
+    char text[256];
+    std::snprintf(text, sizeof(text),
+                  ",\"body_frames\":%d,\"mpjpe_mean_mm\":%.1f,\"mpjpe_median_mm\":%.1f,"
+                  "\"mpjpe_fitted_mean_mm\":%.1f,\"mpjpe_fitted_median_mm\":%.1f,\"fitted_frames\":%d",
+                  b.body_frames, 1000 * b.mpjpe.mean, 1000 * b.mpjpe.median, 1000 * b.mpjpe_fitted.mean,
+                  1000 * b.mpjpe_fitted.median, b.mpjpe_fitted.count);
+    body_json = text;
+  }
   if (json) {
     std::printf("{\"frames\":%d,\"matched\":%d,\"recall\":%.4f,\"tracks\":%d,\"estimates\":%d,"
                 "\"unmatched_estimates\":%d,\"id_switches\":%d,\"fragmentations\":%d,\"rmse\":%.4f,"
-                "\"median\":%.4f,\"rmse_without_offset\":%.4f,\"median_without_offset\":%.4f}\n",
+                "\"median\":%.4f,\"rmse_without_offset\":%.4f,\"median_without_offset\":%.4f%s}\n",
                 m.frames, m.matched, m.recall, m.tracks, m.estimates, m.unmatched_estimates,
                 m.id_switches, m.fragmentations, m.error.rmse, m.error.median,
-                m.error_without_offset.rmse, m.error_without_offset.median);
+                m.error_without_offset.rmse, m.error_without_offset.median, body_json.c_str());
   }
   return 0;
 }
