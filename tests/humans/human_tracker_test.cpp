@@ -1,6 +1,7 @@
 #include "pf2/humans/human_tracker.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 
 #include "pf2/core/error.h"
 
@@ -94,6 +95,56 @@ TEST(HumanTracker, GateStartsNewTracksForFarCentres) {
   EXPECT_EQ(tracker.liveTracks(), 2);
   tracker.reset();
   EXPECT_EQ(tracker.update(4 / kRate, {{0, 0, 1}}), std::vector<int>{1});
+}
+
+// An image of two people, one in red, one in blue, for their appearances.
+PersonAppearance colouredPerson(const cv::Scalar& bgr) {
+  cv::Mat image(120, 80, CV_8UC3, bgr);
+  cv::randn(image, bgr, cv::Scalar(12, 12, 12));  // some texture, as clothes have
+  return personAppearance(image, cv::Rect(0, 0, 80, 120), cv::Mat(120, 80, CV_8U, cv::Scalar(255)));
+}
+
+TEST(PersonAppearance, SameColoursAreSimilarOthersAreNot) {
+  const PersonAppearance red = colouredPerson({40, 40, 200}), red_again = colouredPerson({45, 35, 205});
+  const PersonAppearance blue = colouredPerson({200, 60, 40});
+  ASSERT_EQ(red.size(), 72u);
+  EXPECT_GT(appearanceSimilarity(red, red_again), 0.9);
+  EXPECT_LT(appearanceSimilarity(red, blue), 0.3);
+  EXPECT_EQ(appearanceSimilarity(red, PersonAppearance()), 0.0);
+  // Too few pixels under the mask: unknown.
+  cv::Mat mask(120, 80, CV_8U, cv::Scalar(0));
+  mask(cv::Rect(0, 0, 5, 5)).setTo(255);
+  EXPECT_TRUE(personAppearance(cv::Mat(120, 80, CV_8UC3, cv::Scalar(0, 0, 255)), cv::Rect(0, 0, 80, 120), mask).empty());
+}
+
+// A person hidden for 3 s (longer than max_missed) comes back 1.5 m away: the same id when they
+// look the same, a new one when someone else in other colours appears there.
+TEST(HumanTracker, ReidentifiesAPersonByAppearanceAfterALongGap) {
+  const PersonAppearance red = colouredPerson({40, 40, 200}), blue = colouredPerson({200, 60, 40});
+  for (const bool same_person : {true, false}) {
+    HumanTracker tracker;
+    for (int f = 0; f < 30; ++f) EXPECT_EQ(tracker.update(f / kRate, {{0.01 * f, 0, 2}}, {red}), std::vector<int>{1});
+    for (int f = 30; f < 120; ++f) tracker.update(f / kRate, {});
+    EXPECT_EQ(tracker.liveTracks(), 0);
+    const std::vector<int> ids = tracker.update(120 / kRate, {{1.8, 0, 2}}, {same_person ? red : blue});
+    EXPECT_EQ(ids, std::vector<int>{same_person ? 1 : 2});
+    EXPECT_EQ(tracker.liveTracks(), 1);
+  }
+  // Beyond reach (farther than gate + max_speed x 3 s) or after reid_window: a new person.
+  HumanTracker::Options options;
+  options.reid_window = 2.0;
+  HumanTracker forgetful(options);
+  forgetful.update(0.0, {{0, 0, 2}}, {red});
+  for (int f = 1; f < 90; ++f) forgetful.update(f / kRate, {});
+  EXPECT_EQ(forgetful.update(90 / kRate, {{0.5, 0, 2}}, {red}), std::vector<int>{2});
+  // The paper's association never re-identifies.
+  options = HumanTracker::Options();
+  options.association = HumanTracker::Association::kPaper;
+  HumanTracker paper(options);
+  paper.update(0.0, {{0, 0, 2}}, {red});
+  paper.update(1 / kRate, {});
+  EXPECT_EQ(paper.update(2 / kRate, {{0, 0, 2}}, {red}), std::vector<int>{2});
+  EXPECT_THROW(paper.update(3 / kRate, {{0, 0, 2}}, {red, blue}), Error);
 }
 
 TEST(HumanTracker, AssociationNames) {

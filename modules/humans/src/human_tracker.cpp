@@ -12,6 +12,7 @@ HumanTracker::HumanTracker(const Options& options) : options_(options) {}
 
 void HumanTracker::reset() {
   tracks_.clear();
+  appearance_.clear();
   live_.clear();
   next_id_ = 1;
 }
@@ -66,22 +67,88 @@ std::vector<int> HumanTracker::associatePredicted(double timestamp,
   return solveAssignment(cost, 1.0);
 }
 
-std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w) {
+void HumanTracker::observe(size_t track, double timestamp, const Eigen::Vector3d& centre_w,
+                           const PersonAppearance& appearance) {
+  tracks_[track].points.push_back({timestamp, centre_w});
+  PersonAppearance& mean = appearance_[track];
+  if (appearance.empty()) return;
+  if (mean.size() != appearance.size()) {
+    mean = appearance;
+    return;
+  }
+  for (size_t i = 0; i < mean.size(); ++i) {
+    mean[i] += static_cast<float>(options_.appearance_rate) * (appearance[i] - mean[i]);
+  }
+}
+
+int HumanTracker::reidentify(double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance,
+                             const std::vector<bool>& taken) const {
+  if (options_.association != Association::kPredicted || options_.reid_window <= 0 || appearance.empty()) return -1;
+  int best = -1;
+  double best_similarity = options_.reid_similarity;
+  for (size_t t = 0; t < tracks_.size(); ++t) {
+    if (taken[t]) continue;  // one centre per track and frame
+    const HumanTrackPoint& last = tracks_[t].points.back();
+    const double unseen = timestamp - last.timestamp;
+    if (unseen <= 0 || unseen > options_.reid_window) continue;
+    // Where the person could have walked meanwhile.
+    if ((centre_w - last.p_w).norm() > options_.gate + options_.max_speed * unseen) continue;
+    const double similarity = appearanceSimilarity(appearance, appearance_[t]);
+    if (similarity >= best_similarity) best_similarity = similarity, best = static_cast<int>(t);
+  }
+  return best;
+}
+
+std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
+                                      const std::vector<PersonAppearance>& appearances) {
+  if (!appearances.empty() && appearances.size() != centres_w.size()) {
+    throw Error("HumanTracker::update: " + std::to_string(appearances.size()) + " appearances for " +
+                std::to_string(centres_w.size()) + " centres");
+  }
+  const auto appearance = [&](size_t c) { return appearances.empty() ? PersonAppearance() : appearances[c]; };
   const std::vector<int> live_of = options_.association == Association::kPaper
                                        ? associatePaper(centres_w)
                                        : associatePredicted(timestamp, centres_w);
   std::vector<int> ids(centres_w.size());
-  std::vector<bool> seen(live_.size(), false);
+  std::vector<bool> seen(live_.size(), false), taken(tracks_.size(), false);
   for (size_t c = 0; c < centres_w.size(); ++c) {
-    if (live_of[c] >= 0) {
-      Live& live = live_[live_of[c]];
-      seen[live_of[c]] = true;
-      live.missed = 0;
-      tracks_[live.track].points.push_back({timestamp, centres_w[c]});
-      ids[c] = tracks_[live.track].id;
-    }
+    if (live_of[c] < 0) continue;
+    Live& live = live_[live_of[c]];
+    seen[live_of[c]] = true;
+    taken[live.track] = true;
+    live.missed = 0;
+    observe(live.track, timestamp, centres_w[c], appearance(c));
+    ids[c] = tracks_[live.track].id;
   }
-  // Age the unseen tracks and drop those past their limit (the paper keeps none unseen).
+  ageUnseen(seen);
+  for (size_t c = 0; c < centres_w.size(); ++c) {
+    if (live_of[c] >= 0) continue;
+    int track = reidentify(timestamp, centres_w[c], appearance(c), taken);
+    if (track < 0) {
+      HumanTrack fresh;
+      fresh.id = next_id_++;
+      tracks_.push_back(std::move(fresh));
+      appearance_.emplace_back();
+      taken.push_back(false);
+      track = static_cast<int>(tracks_.size()) - 1;
+    }
+    // A re-identified track is live again (it may still be among the live ones, unmatched).
+    const auto live = std::find_if(live_.begin(), live_.end(), [&](const Live& l) { return l.track == static_cast<size_t>(track); });
+    if (live == live_.end()) {
+      live_.push_back({static_cast<size_t>(track), 0});
+    } else {
+      live->missed = 0;
+    }
+    taken[track] = true;
+    observe(track, timestamp, centres_w[c], appearance(c));
+    ids[c] = tracks_[track].id;
+  }
+  return ids;
+}
+
+// Ages the live tracks without a centre this frame and drops those past their limit (the paper
+// keeps none unseen).
+void HumanTracker::ageUnseen(const std::vector<bool>& seen) {
   const int max_missed = options_.association == Association::kPaper ? 0 : options_.max_missed;
   std::vector<Live> kept;
   for (size_t l = 0; l < live_.size(); ++l) {
@@ -89,16 +156,6 @@ std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen:
     if (live_[l].missed <= max_missed) kept.push_back(live_[l]);
   }
   live_ = std::move(kept);
-  for (size_t c = 0; c < centres_w.size(); ++c) {
-    if (live_of[c] >= 0) continue;
-    HumanTrack track;
-    track.id = next_id_++;
-    track.points.push_back({timestamp, centres_w[c]});
-    tracks_.push_back(std::move(track));
-    live_.push_back({tracks_.size() - 1, 0});
-    ids[c] = tracks_.back().id;
-  }
-  return ids;
 }
 
 HumanTracker::Association humanAssociationFromName(const std::string& name) {

@@ -111,6 +111,8 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.boolean("humans.depth_in_interval", &o.human_depth_in_interval,
             "d_m over the person's depths inside their interval; false = all of D_h^t (the paper)");
   s.number("humans.min_area", &o.human_min_area, 0.0, 1.0, "fraction", "no centre for a person covering less of the image");
+  s.integer("humans.min_frames", &o.human_min_frames, 1, 100000, "frames",
+            "a track seen in fewer frames is left out of humans.txt and humans.json (a false detection)");
   s.custom("humans.association",
            [&h](const std::string& text) { h.association = humanAssociationFromName(text); },
            [&h] { return toString(h.association); }, "predicted, paper",
@@ -120,6 +122,10 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.integer("humans.max_missed", &h.max_missed, 0, 100000, "frames", "a track lives this long unseen");
   s.number("humans.velocity_window", &h.velocity_window, 0.01, 10.0, "seconds", "a track's velocity is measured over");
   s.number("humans.max_speed", &h.max_speed, 0.1, 20.0, "m/s", "velocity clamp");
+  s.number("humans.reid_window", &h.reid_window, 0.0, 3600.0, "seconds",
+           "a person unseen this long can be re-identified by appearance and position (0 = never)");
+  s.number("humans.reid_similarity", &h.reid_similarity, 0.0, 1.0, "",
+           "colour-histogram similarity (Bhattacharyya coefficient) needed to re-identify a person");
 }
 
 void bodySettings(SlamOptions& o, Settings& s) {

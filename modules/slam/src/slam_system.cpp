@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -18,6 +19,7 @@
 #include "pf2/filters/person_removal.h"
 #include "pf2/humans/human_position.h"
 #include "pf2/humans/human_tracker.h"
+#include "pf2/humans/person_appearance.h"
 
 namespace pf2 {
 
@@ -141,6 +143,17 @@ bool bodyKeypoints(const PersonDetection& detection, std::array<BodyKeypoint, kC
     (*keypoints)[k] = {point.u, point.v, point.score};
   }
   return true;
+}
+
+// Leaves out the people seen in fewer than min_frames frames (their ids stay unused).
+void dropShortTracks(int min_frames, SlamResult* result) {
+  const size_t n = static_cast<size_t>(min_frames);
+  auto& humans = result->humans;
+  humans.erase(std::remove_if(humans.begin(), humans.end(), [n](const HumanTrack& t) { return t.points.size() < n; }),
+               humans.end());
+  auto& bodies = result->bodies;
+  bodies.erase(std::remove_if(bodies.begin(), bodies.end(), [n](const BodyTrack& t) { return t.frames.size() < n; }),
+               bodies.end());
 }
 
 // Decodes frames ahead of the front end in its own thread (decoding overlaps the front end's work).
@@ -342,6 +355,7 @@ class SlamSystem::Pipeline {
     } else if (track_humans_) {
       result.humans = humanTracks(records_, keyframe_poses);
     }
+    dropShortTracks(options_.human_min_frames, &result);
     result.tracker_stages_json = tracker_.stats().toJson();
     if (mapping_) {
       mapping_->moveTo(keyframe_poses);
@@ -415,10 +429,15 @@ class SlamSystem::Pipeline {
         personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
                       options_.filter.human_margin, options_.human_min_area, &person_of_centre);
     std::vector<Eigen::Vector3d> people_w;
+    std::vector<PersonAppearance> appearances;
     if (record->has_pose) {
-      for (const Eigen::Vector3d& p_c : people_c) people_w.push_back(humanCentreInWorld(result.T_w_c, p_c));
+      for (size_t k = 0; k < people_c.size(); ++k) {
+        people_w.push_back(humanCentreInWorld(result.T_w_c, people_c[k]));
+        const DualBBoxFilter::Person& person = filtered.people[person_of_centre[k]];
+        appearances.push_back(personAppearance(frame.rgb, person.area, person.mask));
+      }
     }
-    const std::vector<int> ids = humans_.update(frame.timestamp, people_w);
+    const std::vector<int> ids = humans_.update(frame.timestamp, people_w, appearances);
     std::vector<FrameResult::Person> people;
     for (size_t k = 0; k < ids.size(); ++k) {
       record->people_c.emplace_back(ids[k], people_c[k]);

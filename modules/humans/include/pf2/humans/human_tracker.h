@@ -12,14 +12,18 @@
 //                (measured over the last velocity_window seconds of the track); centres and
 //                tracks are matched by minimum total distance (Hungarian) within a gate that
 //                widens the longer a track has been unseen; tracks survive max_missed frames
-//                without a centre, so a person hidden for a moment keeps their id.
-// Unmatched centres start new tracks; ids are 1, 2, 3, ... in order of appearance, never reused.
+//                without a centre, so a person hidden for a moment keeps their id; a centre no
+//                live track takes is first compared with the tracks lost or unmatched within the
+//                last reid_window seconds, by appearance (colour histogram) and a reachable
+//                position: the most similar one above reid_similarity takes it under its old id.
+// Other unmatched centres start new tracks; ids are 1, 2, 3, ... in order of appearance, never reused.
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "pf2/humans/human_track.h"
+#include "pf2/humans/person_appearance.h"
 
 namespace pf2 {
 
@@ -37,6 +41,9 @@ class HumanTracker {
     double velocity_window = 0.5;   // seconds of the track's past its velocity is measured over
                                     // (longer: less noise from box jitter, slower to follow turns)
     double max_speed = 2.5;         // m/s: the velocity is clamped to this (a walking person)
+    double reid_window = 10.0;      // s: a track unseen this long can still be re-identified (0 = never)
+    double reid_similarity = 0.8;   // appearance similarity (Bhattacharyya coefficient) needed, 0..1
+    double appearance_rate = 0.2;   // weight of a new view in a track's appearance (running mean)
   };
 
   HumanTracker() : HumanTracker(Options()) {}
@@ -46,7 +53,9 @@ class HumanTracker {
   // increasing from call to call). Returns the track id of each centre, in the same order. Call
   // it for every frame, with no centres when nobody was seen or the frame has no pose, so that
   // missed frames are counted. NOT thread safe.
-  std::vector<int> update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w);
+  // appearances: one per centre (or none at all); an empty one is unknown and never re-identified.
+  std::vector<int> update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
+                          const std::vector<PersonAppearance>& appearances = {});
 
   // Every track started so far (finished ones too), in id order, with all its points. NOT thread
   // safe against update().
@@ -67,9 +76,16 @@ class HumanTracker {
   Eigen::Vector3d predict(const Live& live, double timestamp) const;
   std::vector<int> associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const;
   std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w) const;
+  // The index into tracks_ of the track to re-identify a centre as, or -1. `taken`: tracks_
+  // indices given a centre this frame.
+  int reidentify(double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance,
+                 const std::vector<bool>& taken) const;
+  void ageUnseen(const std::vector<bool>& seen);
+  void observe(size_t track, double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance);
 
   Options options_;
   std::vector<HumanTrack> tracks_;
+  std::vector<PersonAppearance> appearance_;  // per track, running mean of its views
   std::vector<Live> live_;
   int next_id_ = 1;
 };

@@ -46,6 +46,9 @@ struct SlamOptions {
   // centre: a sliver of a person at the image border or behind another gives a box centre far
   // from the body and a depth histogram that may be the other person's (0 = every person).
   double human_min_area = 0.001;
+  // A track seen in fewer frames is left out of humans.txt and humans.json: a detection that
+  // lasts a third of a second is a false one far more often than a person.
+  int human_min_frames = 10;
   HumanTracker::Options humans;
   // Bodies (paper §III-C, eq. 4): each tracked person's body model fitted to their keypoints and
   // depth in a thread of its own, placed in the world with the final poses; the tracks of
