@@ -45,6 +45,12 @@ StageSummary StageStats::summary(const std::string& stage) const {
   return s;
 }
 
+std::vector<double> StageStats::samples(const std::string& stage) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = samples_.find(stage);
+  return it == samples_.end() ? std::vector<double>() : it->second;
+}
+
 std::vector<std::string> StageStats::stages() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return order_;

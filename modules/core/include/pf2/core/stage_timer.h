@@ -27,6 +27,9 @@ class StageStats {
   void add(const std::string& stage, double milliseconds);
   StageSummary summary(const std::string& stage) const;  // all zero for an unknown stage
   std::vector<std::string> stages() const;                // in order of first use
+  // Every duration of a stage, in the order they were added (per frame for a stage timed once a
+  // frame); empty for an unknown stage.
+  std::vector<double> samples(const std::string& stage) const;
   // {"stage": {"count":..,"median_ms":..,"p90_ms":..,"mean_ms":..,"max_ms":..}, ...}
   std::string toJson() const;
 
