@@ -33,6 +33,7 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
       << ",\"relocalised\":" << s.relocalised << ",\"bridged\":" << s.bridged
       << ",\"keyframes\":" << s.keyframes << ",\"loop_closures\":" << s.loop_closures
       << ",\"local_edges\":" << s.local_edges
+      << ",\"dropped\":" << s.dropped << ",\"stopped\":" << (s.stopped ? "true" : "false")
       << ",\"body_fits_offered\":" << s.body_fits_offered << ",\"body_fits_skipped\":" << s.body_fits_skipped
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
       << "\",\"stages\":" << stages.toJson() << ",\"tracker_stages\":" << result.tracker_stages_json
@@ -41,7 +42,7 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
 }
 
 // The files of one result, into `dir`.
-void writeFiles(const std::string& dir, const SlamResult& result, StageStats* stages) {
+void writeFiles(const std::string& dir, const SlamResult& result, StageStats* stages, const ExtraFiles& extra_files) {
   writeTrajectory(dir + "/trajectory.txt", result.trajectory);
   if (result.has_humans) writeHumanTracks(dir + "/humans.txt", result.humans);
   TriangleMesh static_map;
@@ -59,13 +60,15 @@ void writeFiles(const std::string& dir, const SlamResult& result, StageStats* st
   }
   const std::string json = summaryJson(result, *stages);
   writeFileAtomically(dir + "/stats.json", [&](std::ostream& out) { out << json; });
+  if (extra_files) extra_files(dir);
 }
 
 }  // namespace
 
 // The files are written into a staging folder inside out_dir and moved into place only when all
 // of them were written: a failure (a full disk during the map export) leaves out_dir as it was.
-void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages) {
+void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages,
+                     const ExtraFiles& extra_files) {
   namespace fs = std::filesystem;
   const fs::path staging = fs::path(out_dir) / ".pf2_result.partial";
   std::error_code ignored;
@@ -74,7 +77,7 @@ void writeSlamResult(const std::string& out_dir, const SlamResult& result, Stage
     throw fileError(staging.string(), "cannot create the staging folder for the outputs");
   }
   try {
-    writeFiles(staging.string(), result, stages);
+    writeFiles(staging.string(), result, stages, extra_files);
     for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
       fs::rename(entry.path(), fs::path(out_dir) / entry.path().filename());
     }

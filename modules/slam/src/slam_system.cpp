@@ -20,25 +20,12 @@
 #include "pf2/humans/human_position.h"
 #include "pf2/humans/human_tracker.h"
 #include "pf2/humans/person_appearance.h"
+#include "pf2/io/frame_streams.h"
+#include "pf2/slam/slam_runner.h"
 
 namespace pf2 {
 
 namespace {
-
-void makeDirectory(const std::string& path) {
-  struct stat info;
-  if (::stat(path.c_str(), &info) == 0) {
-    if (!S_ISDIR(info.st_mode)) throw fileError(path, "output path exists and is not a directory");
-    return;
-  }
-  if (::mkdir(path.c_str(), 0755) != 0) throw fileError(path, "cannot create output directory");
-}
-
-// Decodes frames ahead of the front end; an exception is handed over with the frame it hit.
-struct LoadedFrame {
-  Frame frame;
-  std::exception_ptr error;
-};
 
 // A frame for the map: a keyframe, or a frame fused in between (fuse_every) that hangs off its
 // keyframe like a trajectory pose, so pose-graph corrections move it too.
@@ -156,45 +143,6 @@ void dropShortTracks(int min_frames, SlamResult* result) {
                bodies.end());
 }
 
-// Decodes frames ahead of the front end in its own thread (decoding overlaps the front end's work).
-class FrameLoader {
- public:
-  FrameLoader(const FrameSource& source, size_t frame_count, int prefetch, StageStats* stats)
-      : queue_(prefetch), thread_([this, &source, frame_count, stats] { load(source, frame_count, stats); }) {}
-  ~FrameLoader() { stop(); }
-  // The next frame, or nullopt after the last; rethrows a decoding error at the frame it hit.
-  std::optional<Frame> next() {
-    std::optional<LoadedFrame> item = queue_.pop();
-    if (!item) return std::nullopt;
-    if (item->error) std::rethrow_exception(item->error);
-    return std::move(item->frame);
-  }
-  void stop() {
-    queue_.close();
-    if (thread_.joinable()) thread_.join();
-  }
-
- private:
-  void load(const FrameSource& source, size_t frame_count, StageStats* stats) {
-    for (size_t i = 0; i < frame_count; ++i) {
-      LoadedFrame item;
-      try {
-        ScopedStageTimer timer(stats, "load");
-        item.frame = source.frame(i);
-      } catch (...) {
-        item.error = std::current_exception();
-      }
-      const bool failed = static_cast<bool>(item.error);
-      queue_.push(std::move(item));
-      if (failed) break;
-    }
-    queue_.close();
-  }
-
-  WorkQueue<LoadedFrame> queue_;
-  std::thread thread_;
-};
-
 // Fuses keyframes (and in-between frames) into the map in its own thread and follows the pose
 // graph's corrections. Only that thread touches the Mapper until stop().
 class MappingThread {
@@ -289,18 +237,21 @@ class SlamSystem::Pipeline {
   // Writes each frame's removed mask into `dir` (which must exist) from now on.
   void writeMasksTo(const std::string& dir) { masks_dir_ = dir; }
 
-  // The front end on one frame: people removed, camera tracked, people placed, map fed.
-  FrameResult process(const Frame& frame) {
+  // The frame's people (the detection thread may call this ahead of process()).
+  Detections detect(const Frame& frame) { return removal_ ? removal_->detect(frame, stats_) : Detections(); }
+
+  // The front end on one frame with its detections: people removed, camera tracked, people
+  // placed, map fed.
+  FrameResult process(const Frame& frame, const Detections& detections) {
     if (finished_) throw Error("SlamSystem::process: called after finish()");
     const auto begin = std::chrono::steady_clock::now();
     if (summary_.frames == 0) first_frame_ = begin;
     FrameResult out;
     {
       ScopedStageTimer frame_timer(stats_, "frame");
-      Detections detections;
       DualBBoxFilter::Result filtered;
       Frame static_frame = frame;
-      if (removal_) removePeople(frame, &detections, &filtered, &static_frame);
+      if (removal_) removePeople(frame, detections, &filtered, &static_frame);
       TrackResult result;
       {
         ScopedStageTimer timer(stats_, "track");
@@ -391,10 +342,9 @@ class SlamSystem::Pipeline {
     return removal;
   }
 
-  // Detection and the Dual-BBox filter: static_frame gets the static depth D_b.
-  void removePeople(const Frame& frame, Detections* detections, DualBBoxFilter::Result* filtered,
+  // The Dual-BBox filter on the frame's detections: static_frame gets the static depth D_b.
+  void removePeople(const Frame& frame, const Detections& detections, DualBBoxFilter::Result* filtered,
                     Frame* static_frame) {
-    *detections = removal_->detect(frame, stats_);
     // Constant-velocity guess of this frame's motion, for the temporal guard.
     const Eigen::Isometry3d T_cur_prev =
         poses_in_row_ >= 2 ? T_w_prev_.inverse() * T_w_prevprev_ : Eigen::Isometry3d::Identity();
@@ -404,7 +354,7 @@ class SlamSystem::Pipeline {
       ScopedStageTimer timer(stats_, "predict");
       prediction = prediction_.predict(tracker_.keyframes(), T_w_prev_ * T_cur_prev.inverse(), frame.intrinsics);
     }
-    *filtered = removal_->filter(frame, *detections, T_cur_prev, prediction, stats_);
+    *filtered = removal_->filter(frame, detections, T_cur_prev, prediction, stats_);
     static_frame->depth = filtered->static_depth;
     if (!masks_dir_.empty()) writeMask(frame.timestamp, filtered->removed);
   }
@@ -549,7 +499,26 @@ SlamSystem::Pipeline& SlamSystem::pipeline() {
   return *pipeline_;
 }
 
-FrameResult SlamSystem::process(const Frame& frame) { return pipeline().process(frame); }
+FrameResult SlamSystem::process(const Frame& frame) { return process(frame, detect(frame)); }
+
+Detections SlamSystem::detect(const Frame& frame) { return pipeline().detect(frame); }
+
+FrameResult SlamSystem::process(const Frame& frame, const Detections& detections) {
+  return pipeline().process(frame, detections);
+}
+
+const SlamRunSummary& SlamSystem::progress() const {
+  static const SlamRunSummary kNothingYet;
+  return pipeline_ ? pipeline_->summary() : kNothingYet;
+}
+
+size_t SlamSystem::keyframeCount() const { return pipeline_ ? pipeline_->keyframeCount() : 0; }
+
+void SlamSystem::abandon() {
+  if (!pipeline_) return;
+  pipeline_->stopThreads();
+  pipeline_.reset();
+}
 
 SlamResult SlamSystem::finish() {
   SlamResult result = pipeline().finish();
@@ -585,53 +554,27 @@ std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, co
 }
 
 
+bool SlamSystem::removesPeople() const { return pipeline_ && pipeline_->removesPeople(); }
+
 SlamRunSummary SlamSystem::run(const FrameSource& source, const std::string& sequence_folder,
                                const std::string& out_dir) {
   if (pipeline_) throw Error("SlamSystem::run: the system has already processed frames");
-  makeDirectory(out_dir);
+  makeOutputFolder(out_dir);
   size_t frame_count = source.size();
   if (options_.max_frames > 0) frame_count = std::min<size_t>(frame_count, options_.max_frames);
   if (frame_count == 0) throw Error("the sequence has no frames: " + source.description());
   std::string detector_name;
   pipeline_ = std::make_unique<Pipeline>(options_, createSlamDetector(options_, sequence_folder, &detector_name),
                                          &stats_);
-
-  // Masks are written as frames pass, into a folder renamed to masks/ once the run succeeded.
-  const std::string masks_partial = out_dir + "/masks.partial";
-  if (options_.write_masks && pipeline_->removesPeople()) {
-    std::filesystem::remove_all(masks_partial);
-    makeDirectory(masks_partial);
-    pipeline_->writeMasksTo(masks_partial);
-  }
-  SlamResult result;
-  FrameLoader loader(source, frame_count, options_.prefetch_frames, &stats_);
-  const auto start = std::chrono::steady_clock::now();
+  RecordedStream stream(source, frame_count, options_.prefetch_frames, &stats_);
+  SlamRunner::Options runner;
+  runner.progress = options_.progress;
   try {
-    while (std::optional<Frame> frame = loader.next()) {
-      pipeline_->process(*frame);
-      const int frames = pipeline_->summary().frames;
-      if (options_.progress && (frames % 30 == 0 || frames == static_cast<int>(frame_count))) {
-        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::fprintf(stderr, "\rframe %d/%zu  %.1f fps  lost %d  keyframes %zu   ", frames, frame_count,
-                     frames / elapsed, pipeline_->summary().lost, pipeline_->keyframeCount());
-      }
-    }
-    loader.stop();
-    if (options_.progress) std::fprintf(stderr, "\n");
-    result = finish();
+    return runToFolder(this, &stream, out_dir, runner).summary;
   } catch (...) {
-    loader.stop();
-    pipeline_->stopThreads();
-    pipeline_.reset();  // a failed run leaves the system as it was, ready for another run()
-    std::filesystem::remove_all(masks_partial);
+    abandon();  // a failed run leaves the system as it was, ready for another run()
     throw;
   }
-  writeSlamResult(out_dir, result, &stats_);
-  if (std::filesystem::exists(masks_partial)) {
-    std::filesystem::remove_all(out_dir + "/masks");
-    std::filesystem::rename(masks_partial, out_dir + "/masks");
-  }
-  return result.summary;
 }
 
 }  // namespace pf2

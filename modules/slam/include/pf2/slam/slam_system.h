@@ -2,11 +2,14 @@
 // The pipeline of DESIGN.md: frames -> person detector -> Dual-BBox filter -> tracker -> mapper,
 // and the human tracker on the filter's people once the frame's pose is known.
 //
-// Threads: run() decodes frames ahead in a loader thread; the calling thread runs detection,
-// filtering and tracking (the front end), then associates the people's centres (microseconds); the tracker's
-// pose-graph back end (loop closure) runs in its own thread; a mapper thread fuses keyframes into
-// the TSDF/OctoMap and re-fuses them when the pose graph moves them. Only the front end touches the
-// detector, filter, tracker and human tracker; only the mapper thread touches the Mapper.
+// Threads: run() (through SlamRunner) decodes frames ahead in a loader thread and detects the
+// people of the next frame in a detection thread while the calling thread filters and tracks this
+// one, then associates the people's centres (microseconds); the tracker's pose-graph back end
+// (loop closure) runs in its own thread; a mapper thread fuses keyframes into the TSDF/OctoMap and
+// re-fuses them when the pose graph moves them; a body thread fits the people's bodies. Only the
+// detection thread touches the detector; only the front end the filter, tracker and human
+// tracker; only the mapper thread the Mapper; only the body thread the body fitter's state.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -32,6 +35,8 @@ struct SlamRunSummary {
   int local_edges = 0;   // verified edges between near keyframes (the back end's local window)
   double seconds = 0;    // wall time of the run, from the first frame read to the last tracked
   double fps = 0;        // frames / seconds (end to end, decoding included)
+  int dropped = 0;       // frames a live stream dropped because the pipeline was still busy
+  bool stopped = false;  // the run was ended early (Ctrl-C); its result covers the frames processed
   int body_fits_offered = 0;  // people-frames sent to the body thread (bodies.fit_every apart per person)
   int body_fits_skipped = 0;  // of those, dropped because the body thread was behind (interpolated)
   std::string detector;  // backend that ran ("none" when people were not removed)
@@ -88,6 +93,20 @@ class SlamSystem {
   // One frame, in time order: people removed, camera tracked, people placed, the map fed. NOT
   // thread safe: one caller, as for finish().
   FrameResult process(const Frame& frame);
+  // process() in two steps, so that detection can run ahead in a thread of its own (SlamRunner):
+  // detect() gives a frame's people (none without a detector); it may be called from another
+  // thread than process(), frames in order, ahead of process(). process(frame, detections) is the
+  // rest with those detections. Each of the two from one thread at a time.
+  Detections detect(const Frame& frame);
+  FrameResult process(const Frame& frame, const Detections& detections);
+  // Counts so far (frames, lost, ...), for a progress line. Front end's thread only.
+  const SlamRunSummary& progress() const;
+  size_t keyframeCount() const;
+  const SlamOptions& options() const { return options_; }
+  // True when the system has a detector (people are removed, masks exist).
+  bool removesPeople() const;
+  // Stops the threads after an error and forgets the frames processed: the system is as new.
+  void abandon();
   // Waits for the back end and the map and returns the final result. Call once, after the last
   // process(); process() may not be called after it.
   SlamResult finish();
@@ -135,7 +154,10 @@ std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, co
 // their export time goes into `stages` as "map_export"), then stats.json (summary, `stages`, the
 // tracker's sub-stages, each frame's status). The files appear as a set: written into a staging
 // folder in out_dir and moved into place once all were written; on failure out_dir keeps what it
-// had. Throws pf2::Error naming the file.
-void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages);
+// had. `extra_files`, when given, writes more files (the run report) into the staging folder it is
+// passed, so they belong to the same set. Throws pf2::Error naming the file.
+using ExtraFiles = std::function<void(const std::string& staging_dir)>;
+void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages,
+                     const ExtraFiles& extra_files = nullptr);
 
 }  // namespace pf2
