@@ -1,5 +1,9 @@
 // pf2_slam: dynamic RGB-D SLAM on a TUM-layout folder, or on the built-in synthetic sequence.
-#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
 
 #include <cstdio>
 #include <iostream>
@@ -10,10 +14,13 @@
 #include "pf2/core/error.h"
 #include "pf2/core/settings.h"
 #include "pf2/eval/trajectory_metrics.h"
+#include "pf2/io/frame_streams.h"
+#include "pf2/io/openni2_stream.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/io/tum_sequence.h"
 #include "pf2/io/tum_sequence_settings.h"
 #include "pf2/registration/rgbd_odometry.h"
+#include "pf2/slam/slam_runner.h"
 #include "pf2/slam/slam_system.h"
 #include "pf2/synth/synth_settings.h"
 #include "pf2/synth/synthetic_sequence.h"
@@ -56,6 +63,14 @@ const char* kUsage =
     "  --depth-scale S      depth PNG units per metre (default 5000)\n"
     "  --distortion D       auto (TUM fr1/fr2 lens distortion for those presets), none, fr1, fr2\n"
     "  --quiet              no progress line\n"
+    "Input (besides SEQUENCE_DIR, a TUM or Bonn folder):\n"
+    "  --device openni2[:URI]  a live OpenNI2 camera (Kinect, Xtion, Astra): the first one, the\n"
+    "                       one with this URI or '#N', or an OpenNI2 recording (URI = FILE.oni);\n"
+    "                       real time: frames that arrive while the pipeline is busy are dropped\n"
+    "                       (and counted); Ctrl-C ends the run and writes its outputs\n"
+    "  --record DIR         with --device: also save every frame as a TUM folder (DIR new or empty)\n"
+    "  --realtime           a recording at its own pace, dropping frames like a live camera\n"
+    "                       (default: every frame, as fast as the machine goes)\n"
     "Built-in sequence:\n"
     "  --synth-frames N     frames (default 300)   --synth-people K  people 0..5 (default 3)\n"
     "  --synth-camera M     static|xyz|halfsphere|rpy|loop (default xyz)   --seed S (default 1)\n"
@@ -78,11 +93,6 @@ std::vector<double> lensDistortion(const std::string& name, const pf2::CameraInt
   throw pf2::Error("option --distortion: expected auto, none, fr1 or fr2, got '" + name + "'");
 }
 
-bool exists(const std::string& path) {
-  struct stat info;
-  return ::stat(path.c_str(), &info) == 0;
-}
-
 // The run's figures: frames and their status, keyframes, speed per stage.
 void printSummary(const std::string& sequence, const pf2::SlamRunSummary& s, const pf2::StageStats& stats) {
   std::printf("sequence    %s\n", sequence.c_str());
@@ -91,6 +101,8 @@ void printSummary(const std::string& sequence, const pf2::SlamRunSummary& s, con
               s.bridged, s.relocalised, s.lost);
   std::printf("keyframes   %d (local edges %d, loop closures %d)\n", s.keyframes, s.local_edges, s.loop_closures);
   std::printf("fps         %.1f end to end (%.1f s)\n", s.fps, s.seconds);
+  if (s.dropped > 0) std::printf("dropped     %d frames arrived while the pipeline was busy (real time)\n", s.dropped);
+  if (s.stopped) std::printf("stopped     early (Ctrl-C): the outputs cover the %d frames processed\n", s.frames);
   for (const std::string& stage : stats.stages()) {
     const pf2::StageSummary t = stats.summary(stage);
     std::printf("  %-11s median %7.2f ms   p90 %7.2f ms   (%d calls)\n", stage.c_str(), t.median_ms,
@@ -158,6 +170,80 @@ const std::vector<pf2::SettingShortcut> kShortcuts = {
     {"--seed", "synth.seed"},                  {"--no-bodies", "bodies.fit", "false"},
     {"--bodies-every", "bodies.scene_every"}};
 
+// Ctrl-C: the first one asks the run to stop after the frames in flight and to write its outputs;
+// a second one ends the program at once.
+std::atomic<bool> g_stop_requested{false};
+
+void onInterrupt(int) {
+  if (g_stop_requested.exchange(true)) std::_Exit(130);
+  const char message[] = "\npf2_slam: stopping after the frames in flight (Ctrl-C again to abort)\n";
+  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, message, sizeof(message) - 1);
+}
+
+// Where the frames come from and where the results go, from the command line.
+struct Inputs {
+  std::string out_dir;
+  std::string sequence_dir;             // a recording (TUM layout), or empty with a device
+  std::optional<std::string> device;    // --device openni2[:URI]: the URI ("" = first camera)
+  std::string record_dir;               // --record DIR (live only)
+  bool realtime = false;                // --realtime: a recording at its own pace, dropping frames
+  std::optional<std::string> eval_path;
+  std::optional<pf2::TrajectoryFormat> gt_format;
+};
+
+Inputs readInputs(pf2::CommandLine* cli) {
+  Inputs in;
+  in.out_dir = cli->value("-o", "pf2_output");
+  in.eval_path = cli->value("--eval");
+  if (const auto name = cli->value("--gt-format")) in.gt_format = pf2::parseTrajectoryFormat(*name, "--gt-format");
+  if (const auto device = cli->value("--device")) {
+    if (device->rfind("openni2", 0) != 0 || (device->size() > 7 && (*device)[7] != ':')) {
+      throw pf2::Error("option --device: expected openni2 or openni2:URI, got '" + *device + "'");
+    }
+    in.device = device->size() > 8 ? device->substr(8) : "";
+  }
+  in.record_dir = cli->value("--record", "");
+  in.realtime = cli->flag("--realtime");
+  const auto positionals = cli->positionals();
+  if (positionals.size() > 1) throw pf2::Error("expected at most one SEQUENCE_DIR (see -h)");
+  if (!positionals.empty() && in.device) throw pf2::Error("give a SEQUENCE_DIR or --device, not both");
+  if (!positionals.empty()) in.sequence_dir = positionals[0];
+  if (!in.record_dir.empty() && !in.device) throw pf2::Error("option --record: records a live --device only");
+  return in;
+}
+
+// The built-in sequence is written out first, so the run reads it like any TUM folder and the
+// user can look at (and re-run on) exactly what was processed.
+void generateSyntheticSequence(const AppSettings& app, Inputs* in) {
+  pf2::makeOutputFolder(in->out_dir);
+  in->sequence_dir = in->out_dir + "/synthetic";
+  const pf2::SyntheticSequence synthetic(app.synth);
+  std::fprintf(stderr, "pf2_slam: generating %s into %s\n", synthetic.description().c_str(), in->sequence_dir.c_str());
+  synthetic.writeTumFolder(in->sequence_dir);
+  if (!in->eval_path) in->eval_path = in->sequence_dir + "/groundtruth.txt";
+}
+
+// The ground truth, read before the run: a missing or broken file must not cost a run.
+std::optional<pf2::Trajectory> readGroundTruth(const Inputs& in) {
+  if (!in.eval_path) return std::nullopt;
+  // Default: a Bonn folder as published (rgbd_bonn_*) holds marker poses, anything else camera poses.
+  const pf2::TrajectoryFormat format = in.gt_format.value_or(
+      pf2::isBonnDynamicFolder(in.sequence_dir) ? pf2::TrajectoryFormat::kBonn : pf2::TrajectoryFormat::kTum);
+  pf2::Trajectory truth = pf2::readTrajectory(*in.eval_path, format);
+  if (truth.empty()) throw pf2::fileError(*in.eval_path, "no poses in the ground truth");
+  return truth;
+}
+
+// A live camera, or a recording: every frame decoded ahead (offline), or at its own pace
+// dropping what the pipeline cannot take (--realtime).
+std::unique_ptr<pf2::FrameStream> openStream(const Inputs& in, const pf2::FrameSource* recording,
+                                             const pf2::SlamOptions& options, pf2::StageStats* stats) {
+  if (in.device) return std::make_unique<pf2::OpenNI2Stream>(*in.device, in.record_dir);
+  if (in.realtime) return std::make_unique<pf2::ClockedStream>(*recording);
+  return std::make_unique<pf2::RecordedStream>(*recording, static_cast<size_t>(options.max_frames),
+                                               options.prefetch_frames, stats);
+}
+
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
   AppSettings app;
@@ -165,43 +251,27 @@ int run(int argc, char** argv) {
   if (pf2::answeredHelpOrSettings(&cli, kUsage, settings)) return 0;
   pf2::readCommandLineSettings(&cli, &settings, kShortcuts);
   pf2::SlamOptions& options = app.slam;
-  const std::string out_dir = cli.value("-o", "pf2_output");
-  std::optional<std::string> eval_path = cli.value("--eval");
-  const std::optional<std::string> gt_format_name = cli.value("--gt-format");
-  std::optional<pf2::TrajectoryFormat> gt_format;
-  if (gt_format_name) gt_format = pf2::parseTrajectoryFormat(*gt_format_name, "--gt-format");
-  const auto positionals = cli.positionals();
-  if (positionals.size() > 1) throw pf2::Error("expected at most one SEQUENCE_DIR (see -h)");
-
-  std::string sequence_dir;
-  if (positionals.empty()) {
-    // The built-in sequence is written out first, so the run reads it like any TUM folder and
-    // the user can look at (and re-run on) exactly what was processed.
-    if (!exists(out_dir) && ::mkdir(out_dir.c_str(), 0755) != 0) {
-      throw pf2::fileError(out_dir, "cannot create output directory");
-    }
-    sequence_dir = out_dir + "/synthetic";
-    const pf2::SyntheticSequence synthetic(app.synth);
-    std::fprintf(stderr, "pf2_slam: generating %s into %s\n", synthetic.description().c_str(),
-                 sequence_dir.c_str());
-    synthetic.writeTumFolder(sequence_dir);
-    if (!eval_path) eval_path = sequence_dir + "/groundtruth.txt";
-  } else {
-    sequence_dir = positionals[0];
+  Inputs in = readInputs(&cli);
+  if (in.sequence_dir.empty() && !in.device) generateSyntheticSequence(app, &in);
+  const std::optional<pf2::Trajectory> truth = readGroundTruth(in);
+  std::unique_ptr<pf2::TumSequence> recording;
+  if (!in.device) {
+    recording = std::make_unique<pf2::TumSequence>(in.sequence_dir, app.input);
+    if (recording->size() == 0) throw pf2::fileError(in.sequence_dir, "the sequence has no frames");
+    options.tracker.odometry.distortion = lensDistortion(app.distortion, recording->intrinsics());
   }
-  const pf2::TumSequence sequence(sequence_dir, app.input);
-  options.tracker.odometry.distortion = lensDistortion(app.distortion, sequence.intrinsics());
-  pf2::SlamSystem system(options);
-  const pf2::SlamRunSummary s = system.run(sequence, sequence_dir, out_dir);
+  std::string detector_name;
+  pf2::SlamSystem system(options, pf2::createSlamDetector(options, in.sequence_dir, &detector_name));
+  const std::unique_ptr<pf2::FrameStream> stream = openStream(in, recording.get(), options, &system.stats());
+  std::signal(SIGINT, onInterrupt);
+  pf2::SlamRunner::Options runner;
+  runner.progress = options.progress;
+  const pf2::SlamResult result = pf2::runToFolder(&system, stream.get(), in.out_dir, runner, &g_stop_requested);
+  std::signal(SIGINT, SIG_DFL);
 
-  printSummary(sequence.description(), s, system.stats());
-  if (eval_path) {
-    // Default: a Bonn folder as published (rgbd_bonn_*) holds marker poses, anything else camera poses.
-    const pf2::TrajectoryFormat format = gt_format.value_or(
-        pf2::isBonnDynamicFolder(sequence_dir) ? pf2::TrajectoryFormat::kBonn : pf2::TrajectoryFormat::kTum);
-    printAccuracy(pf2::readTrajectory(*eval_path, format), system.trajectory());
-  }
-  printOutputs(out_dir, options, s.detector);
+  printSummary(stream->description(), result.summary, system.stats());
+  if (truth) printAccuracy(*truth, result.trajectory);
+  printOutputs(in.out_dir, options, result.summary.detector);
   return 0;
 }
 

@@ -47,13 +47,48 @@ void RecordedStream::stop() {
   if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
 }
 
+void LatestFrameSlot::put(Frame frame) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (latest_) ++dropped_;
+  latest_ = std::move(frame);
+  changed_.notify_one();
+}
+
+void LatestFrameSlot::fail(std::exception_ptr error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  error_ = error;
+  changed_.notify_all();
+}
+
+void LatestFrameSlot::close() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  closed_ = true;
+  changed_.notify_all();
+}
+
+void LatestFrameSlot::stop() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  stopped_ = true;
+  changed_.notify_all();
+}
+
+std::optional<Frame> LatestFrameSlot::take() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [&] { return latest_.has_value() || closed_ || error_ || stopped_; });
+  if (error_) std::rethrow_exception(error_);
+  if (stopped_ || !latest_) return std::nullopt;
+  std::optional<Frame> frame = std::move(latest_);
+  latest_.reset();
+  return frame;
+}
+
 ClockedStream::ClockedStream(const FrameSource& source, double speed)
     : source_(source), thread_([this, speed] { deliver(speed); }) {}
 
 ClockedStream::~ClockedStream() { stop(); }
 
-// Decodes each frame, waits for its time to come, then puts it in the one-frame slot, replacing
-// (and counting) a frame the consumer did not take in time.
+// Decodes each frame, waits for its time to come, then hands it over (a frame the consumer did not
+// take in time is replaced and counted).
 void ClockedStream::deliver(double speed) {
   const auto start = std::chrono::steady_clock::now();
   double first_stamp = 0;
@@ -62,40 +97,20 @@ void ClockedStream::deliver(double speed) {
     try {
       frame = source_.frame(i);
     } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      error_ = std::current_exception();
-      break;
+      slot_.fail(std::current_exception());
+      return;
     }
     if (i == 0) first_stamp = frame.timestamp;
-    const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                 std::chrono::duration<double>((frame.timestamp - first_stamp) / speed));
-    std::this_thread::sleep_until(due);
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (latest_) ++dropped_;
-    latest_ = std::move(frame);
-    arrived_.notify_one();
+    std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                              std::chrono::duration<double>((frame.timestamp - first_stamp) / speed)));
+    slot_.put(std::move(frame));
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  ended_ = true;
-  arrived_.notify_all();
-}
-
-std::optional<Frame> ClockedStream::next() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  arrived_.wait(lock, [&] { return latest_.has_value() || ended_ || error_ || stopped_; });
-  if (error_) std::rethrow_exception(error_);
-  if (stopped_ || !latest_) return std::nullopt;
-  std::optional<Frame> frame = std::move(latest_);
-  latest_.reset();
-  return frame;
+  slot_.close();
 }
 
 void ClockedStream::stop() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopped_ = true;
-    arrived_.notify_all();
-  }
+  stopped_ = true;
+  slot_.stop();
   if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
 }
 

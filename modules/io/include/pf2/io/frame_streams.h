@@ -21,6 +21,29 @@
 
 namespace pf2 {
 
+// The one-frame hand-over of a real-time stream: a producer thread puts each frame as it arrives,
+// replacing (and counting) one the consumer has not taken yet; the consumer waits for the next.
+// Thread safe.
+class LatestFrameSlot {
+ public:
+  void put(Frame frame);
+  // The producer failed: take() rethrows the error.
+  void fail(std::exception_ptr error);
+  // No more frames: take() returns nullopt once the slot is empty (at once after stop()).
+  void close();
+  void stop();
+  std::optional<Frame> take();
+  int dropped() const { return dropped_; }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::optional<Frame> latest_;
+  std::exception_ptr error_;
+  bool closed_ = false, stopped_ = false;
+  std::atomic<int> dropped_{0};
+};
+
 class RecordedStream : public FrameStream {
  public:
   // The first `count` frames of `source` (all when 0 or more than it has), `prefetch` decoded ahead;
@@ -54,23 +77,18 @@ class ClockedStream : public FrameStream {
   ClockedStream(const FrameSource& source, double speed = 1.0);
   ~ClockedStream() override;
 
-  std::optional<Frame> next() override;
+  std::optional<Frame> next() override { return slot_.take(); }
   void stop() override;
   size_t expected() const override { return source_.size(); }
-  int dropped() const override { return dropped_; }
+  int dropped() const override { return slot_.dropped(); }
   std::string description() const override { return source_.description() + ", replayed in real time"; }
 
  private:
   void deliver(double speed);
 
   const FrameSource& source_;
-  std::mutex mutex_;
-  std::condition_variable arrived_;
-  std::optional<Frame> latest_;  // the newest frame not yet taken
-  std::exception_ptr error_;
-  bool ended_ = false;
+  LatestFrameSlot slot_;
   std::atomic<bool> stopped_{false};
-  std::atomic<int> dropped_{0};
   std::thread thread_;
 };
 
