@@ -9,6 +9,8 @@
 #include <iostream>
 #include <string>
 
+#include <opencv2/core/utility.hpp>
+
 #include "pf2/core/app_settings.h"
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
@@ -260,6 +262,7 @@ int run(int argc, char** argv) {
     if (recording->size() == 0) throw pf2::fileError(in.sequence_dir, "the sequence has no frames");
     options.tracker.odometry.distortion = lensDistortion(app.distortion, recording->intrinsics());
   }
+  if (options.opencv_threads > 0) cv::setNumThreads(options.opencv_threads);
   std::string detector_name;
   pf2::SlamSystem system(options, pf2::createSlamDetector(options, in.sequence_dir, &detector_name));
   const std::unique_ptr<pf2::FrameStream> stream = openStream(in, recording.get(), options, &system.stats());

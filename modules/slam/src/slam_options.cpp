@@ -170,6 +170,8 @@ void runSettings(SlamOptions& o, Settings& s) {
   s.integer("run.max_frames", &o.max_frames, 0, 100000000, "frames", "frames processed from the start (0 = all)");
   s.integer("run.prefetch_frames", &o.prefetch_frames, 1, 64, "frames", "frames decoded ahead in a loader thread");
   s.boolean("run.progress", &o.progress, "progress line with fps on standard error");
+  s.integer("run.opencv_threads", &o.opencv_threads, 0, 64, "threads",
+            "threads of OpenCV's own parallel loops (DNN inference, resizing); 0 = one per core");
   s.boolean("run.write_masks", &o.write_masks,
             "write masks/<timestamp>.png per frame, 255 = depth the filter removed (as --masks)");
 }

@@ -73,6 +73,9 @@ struct SlamOptions {
   int max_frames = 0;                // frames processed from the start (0 = all)
   int prefetch_frames = 4;           // frames decoded ahead in a loader thread
   bool progress = true;              // progress line with fps on standard error
+  // Threads OpenCV's own parallel loops (DNN inference, resizing, ...) may use; 0 = OpenCV's
+  // default (every core). The pipeline already runs its stages in threads of their own.
+  int opencv_threads = 0;
 
   // The filter as the pipeline runs it: the paper's Algorithm 1 plus the backend mask, the
   // temporal guard and the geometric addition fed by the keyframes' prediction (docs/BENCHMARKS.md).
