@@ -47,12 +47,12 @@ TEST(CameraIntrinsics, ProjectInvertsBackProject) {
 TEST(CameraIntrinsics, SaveLoadRoundTripAndErrors) {
   const std::string path = testing::TempDir() + "pf2_camera.txt";
   CameraIntrinsics k = CameraIntrinsics::tumFreiburg2();
-  k.width = 320;
+  k.width = 400;
   k.save(path);
   const CameraIntrinsics loaded = CameraIntrinsics::load(path);
   EXPECT_DOUBLE_EQ(loaded.fx, k.fx);
   EXPECT_DOUBLE_EQ(loaded.cy, k.cy);
-  EXPECT_EQ(loaded.width, 320);
+  EXPECT_EQ(loaded.width, 400);
 
   std::ofstream(path) << "fx 500\nfy 500\r\ncx 1 2\n";
   try {
@@ -63,6 +63,23 @@ TEST(CameraIntrinsics, SaveLoadRoundTripAndErrors) {
   }
   std::ofstream(path) << "# no height\nfx 500\nfy 500\ncx 1\ncy 2\nwidth 640\n";
   EXPECT_THROW(CameraIntrinsics::load(path), Error);
+  // A key twice, an impossible focal length, a principal point outside the image: refused with
+  // the line and the allowed range.
+  const auto refused = [&](const std::string& text, const std::string& expected) {
+    std::ofstream(path) << text;
+    try {
+      CameraIntrinsics::load(path);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  const std::string rest = "cx 319.5\ncy 239.5\nwidth 640\nheight 480\n";
+  refused("fx 500\nfx 510\nfy 500\n" + rest, ":2: key 'fx' set twice (first on line 1)");
+  refused("fx 1e-9\nfy 500\n" + rest, ":1: fx = 1e-09: outside its range [10, 100000]");
+  refused("fx 500\nfy 500\ncx 5000\ncy 239.5\nwidth 640\nheight 480\n", ":3: cx = 5000: outside its range [0, 639]");
+  refused("fx 500\nfy 500\ncx 319.5\ncy -300\nwidth 640\nheight 480\n", ":4: cy = -300: outside its range [0, 479]");
+  refused("fx nan\nfy 500\n" + rest, ":1: expected 'key value' with a finite number");
   std::remove(path.c_str());
   EXPECT_THROW(CameraIntrinsics::load(path), Error);
 }

@@ -62,6 +62,19 @@ void expectSamePose(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, doub
   EXPECT_LT((qa.coeffs() - qb.coeffs()).cwiseAbs().maxCoeff(), tolerance);
 }
 
+// Two poses of one stamp (e.g. every stamp equal) are a broken file, not a trajectory to score.
+TEST(TrajectoryIo, OnePosePerTimestamp) {
+  const std::string path = testing::TempDir() + "pf2_same_stamps.txt";
+  std::ofstream(path) << "# t x y z qx qy qz qw\n1.0 0 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n1.0 2 0 0 0 0 0 1\n";
+  try {
+    readTrajectory(path);
+    FAIL() << "a repeated timestamp was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":4: timestamp already given on line 2"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(TrajectoryIo, FormatNames) {
   EXPECT_EQ(parseTrajectoryFormat("tum", "--gt-format"), TrajectoryFormat::kTum);
   EXPECT_EQ(parseTrajectoryFormat("bonn", "--gt-format"), TrajectoryFormat::kBonn);

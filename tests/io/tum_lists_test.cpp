@@ -63,6 +63,23 @@ TEST(ReadTumList, MalformedLineNamesFileAndLine) {
   EXPECT_THROW(readTumList(testing::TempDir() + "pf2_missing_list.txt"), Error);
 }
 
+// A repeated or earlier stamp would silently drop or reorder a frame: refused with both lines.
+TEST(ReadTumList, StampsMustIncrease) {
+  const std::string path = testing::TempDir() + "pf2_repeated.txt";
+  std::ofstream(path) << "# list\n1.0 rgb/1.png\n2.0 rgb/2.png\n2.0 rgb/2b.png\n";
+  try {
+    readTumList(path);
+    FAIL() << "a repeated timestamp was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":4: timestamp 2.000000 is not after the one on line 3"),
+              std::string::npos) << e.what();
+  }
+  std::ofstream(path) << "5.0 a.png\n5.0 b.png\n5.0 c.png\n";
+  EXPECT_THROW(readTumList(path), Error);
+  std::ofstream(path) << "2.0 rgb/2.png 2.0 depth/2.png\n1.0 rgb/1.png 1.0 depth/1.png\n";
+  EXPECT_THROW(readTumAssociations(path), Error);
+}
+
 TEST(ReadTumAssociations, FourColumns) {
   const std::string path = testing::TempDir() + "pf2_assoc.txt";
   std::ofstream(path) << "1.0 rgb/1.png 1.01 depth/1.png\n2.0 rgb/2.png 1.99 depth/2.png\n";

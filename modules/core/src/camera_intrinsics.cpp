@@ -1,5 +1,7 @@
 #include "pf2/core/camera_intrinsics.h"
 
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -39,7 +41,7 @@ CameraIntrinsics CameraIntrinsics::preset(const std::string& name) {
 }
 
 CameraIntrinsics CameraIntrinsics::load(const std::string& path) {
-  std::map<std::string, double> values;
+  std::map<std::string, std::pair<double, int>> values;  // key -> (value, line)
   forEachDataLine(path, "calibration file", [&](std::string line, int line_number) {
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
@@ -48,28 +50,42 @@ CameraIntrinsics CameraIntrinsics::load(const std::string& path) {
     if (!(fields >> key)) return;  // only a trailing comment
     double value = 0.0;
     std::string extra;
-    if (!(fields >> value) || (fields >> extra)) {
-      throw fileError(path, line_number, "expected 'key value', got '" + line + "'");
+    if (!(fields >> value) || (fields >> extra) || !std::isfinite(value)) {
+      throw fileError(path, line_number, "expected 'key value' with a finite number, got '" + line + "'");
     }
-    if (key != "fx" && key != "fy" && key != "cx" && key != "cy" && key != "width" &&
-        key != "height") {
-      throw fileError(path, line_number, "unknown key '" + key + "'");
+    if (key != "fx" && key != "fy" && key != "cx" && key != "cy" && key != "width" && key != "height") {
+      throw fileError(path, line_number, "unknown key '" + key + "' (expected fx, fy, cx, cy, width, height)");
     }
-    values[key] = value;
+    if (values.count(key)) {
+      throw fileError(path, line_number,
+                      "key '" + key + "' set twice (first on line " + std::to_string(values[key].second) + ")");
+    }
+    values[key] = {value, line_number};
   });
   for (const char* key : {"fx", "fy", "cx", "cy", "width", "height"}) {
     if (!values.count(key)) throw fileError(path, std::string("missing key '") + key + "'");
   }
+  // Ranges a real camera lies in: focal lengths from a fish-eye's to a telephoto's, the principal
+  // point inside the image, sizes up to 8K.
+  const auto check = [&](const char* key, double lo, double hi) {
+    const auto& [value, line] = values[key];
+    if (!(value >= lo && value <= hi)) {
+      char range[96];
+      std::snprintf(range, sizeof(range), "%s = %g: outside its range [%g, %g]", key, value, lo, hi);
+      throw fileError(path, line, range);
+    }
+    return value;
+  };
   CameraIntrinsics k;
-  k.fx = values["fx"];
-  k.fy = values["fy"];
-  k.cx = values["cx"];
-  k.cy = values["cy"];
-  k.width = static_cast<int>(values["width"]);
-  k.height = static_cast<int>(values["height"]);
-  if (!(k.fx > 0 && k.fy > 0 && k.width > 0 && k.height > 0)) {
-    throw fileError(path, "focal lengths and image size must be positive");
+  k.width = static_cast<int>(check("width", 8, 16384));
+  k.height = static_cast<int>(check("height", 8, 16384));
+  if (values["width"].first != k.width || values["height"].first != k.height) {
+    throw fileError(path, values["width"].second, "width and height must be whole numbers of pixels");
   }
+  k.fx = check("fx", 10, 1e5);
+  k.fy = check("fy", 10, 1e5);
+  k.cx = check("cx", 0, k.width - 1);
+  k.cy = check("cy", 0, k.height - 1);
   return k;
 }
 

@@ -10,6 +10,7 @@ namespace pf2 {
 
 Trajectory readTrajectory(const std::string& path) {
   Trajectory trajectory;
+  std::vector<int> lines;
   forEachDataLine(path, "trajectory file", [&](const std::string& line, int line_number) {
     StampedPose pose;
     if (!parseTumLine(line, &pose)) {
@@ -18,10 +19,23 @@ Trajectory readTrajectory(const std::string& path) {
                       "non-zero quaternion, got '" + line + "'");
     }
     trajectory.push_back(pose);
+    lines.push_back(line_number);
   });
-  std::stable_sort(trajectory.begin(), trajectory.end(),
-                   [](const StampedPose& a, const StampedPose& b) { return a.timestamp < b.timestamp; });
-  return trajectory;
+  // Sorted by time (files may list poses in any order); two poses of one stamp are a broken file.
+  std::vector<size_t> order(trajectory.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return trajectory[a].timestamp < trajectory[b].timestamp; });
+  Trajectory sorted;
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k > 0 && trajectory[order[k]].timestamp == trajectory[order[k - 1]].timestamp) {
+      throw fileError(path, lines[order[k]],
+                      "timestamp already given on line " + std::to_string(lines[order[k - 1]]) +
+                          " (one pose per timestamp)");
+    }
+    sorted.push_back(trajectory[order[k]]);
+  }
+  return sorted;
 }
 
 void writeTrajectory(const std::string& path, const Trajectory& trajectory) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "pf2/core/error.h"
@@ -17,6 +18,16 @@ bool readEntry(std::istringstream& fields, int line_number, TumListEntry* entry)
          std::isfinite(entry->timestamp);
 }
 
+// A recording's stamps increase line by line; a repeated or earlier one is a broken list (it would
+// silently drop or reorder frames).
+void requireIncreasing(const std::string& path, const TumListEntry& previous, const TumListEntry& entry) {
+  if (entry.timestamp > previous.timestamp) return;
+  char text[160];
+  std::snprintf(text, sizeof(text), "timestamp %.6f is not after the one on line %d (%.6f): stamps must increase",
+                entry.timestamp, previous.line, previous.timestamp);
+  throw fileError(path, entry.line, text);
+}
+
 }  // namespace
 
 std::vector<TumListEntry> readTumList(const std::string& path) {
@@ -27,6 +38,7 @@ std::vector<TumListEntry> readTumList(const std::string& path) {
     if (!readEntry(fields, number, &entry)) {
       throw fileError(path, number, "expected 'timestamp filename', got '" + line + "'");
     }
+    if (!entries.empty()) requireIncreasing(path, entries.back(), entry);
     entries.push_back(entry);
   });
   return entries;
@@ -41,6 +53,7 @@ std::vector<TumAssociation> readTumAssociations(const std::string& path) {
       throw fileError(path, number,
                       "expected 'rgb_stamp rgb_file depth_stamp depth_file', got '" + line + "'");
     }
+    if (!pairs.empty()) requireIncreasing(path, pairs.back().rgb, pair.rgb);
     pairs.push_back(pair);
   });
   return pairs;
