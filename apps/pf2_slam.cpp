@@ -4,6 +4,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
+#include <filesystem>
 
 #include <cstdio>
 #include <iostream>
@@ -22,6 +23,7 @@
 #include "pf2/io/tum_sequence.h"
 #include "pf2/io/tum_sequence_settings.h"
 #include "pf2/registration/rgbd_odometry.h"
+#include "pf2/report/run_report.h"
 #include "pf2/slam/slam_runner.h"
 #include "pf2/slam/slam_system.h"
 #include "pf2/synth/synth_settings.h"
@@ -127,7 +129,7 @@ void printAccuracy(const pf2::Trajectory& ground_truth, const pf2::Trajectory& t
 }
 
 void printOutputs(const std::string& out_dir, const pf2::SlamOptions& options, const std::string& detector) {
-  std::string files = "trajectory.txt, stats.json";
+  std::string files = "trajectory.txt, stats.json, report.html";
   if (options.build_map) {
     files += ", map.ply";
     if (options.mapper.build_occupancy) files += ", map.bt, map.ot";
@@ -269,7 +271,19 @@ int run(int argc, char** argv) {
   std::signal(SIGINT, onInterrupt);
   pf2::SlamRunner::Options runner;
   runner.progress = options.progress;
-  const pf2::SlamResult result = pf2::runToFolder(&system, stream.get(), in.out_dir, runner, &g_stop_requested);
+  // report.html is written with the other outputs, as part of the same set.
+  const auto report = [&](const std::string& dir, const pf2::SlamResult& result) {
+    pf2::RunReportInput page;
+    page.title = std::filesystem::path(in.device ? stream->description() : in.sequence_dir).filename().string();
+    if (page.title.empty()) page.title = stream->description();
+    for (const std::string& key : settings.keys()) page.settings.emplace_back(key, settings.value(key));
+    page.result = &result;
+    page.stages = &system.stats();
+    page.ground_truth = truth ? &*truth : nullptr;
+    pf2::writeRunReport(dir + "/report.html", page);
+  };
+  const pf2::SlamResult result =
+      pf2::runToFolder(&system, stream.get(), in.out_dir, runner, &g_stop_requested, report);
   std::signal(SIGINT, SIG_DFL);
 
   printSummary(stream->description(), result.summary, system.stats());

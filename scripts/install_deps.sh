@@ -10,6 +10,7 @@ packages=(
   libzip-dev zlib1g-dev nlohmann-json3-dev
   python3 python3-numpy python3-distributed python3-yaml
   xvfb xauth
+  chromium  # the headless browser the report test opens report.html in
 )
 
 SUDO=""

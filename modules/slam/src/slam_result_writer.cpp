@@ -60,7 +60,7 @@ void writeFiles(const std::string& dir, const SlamResult& result, StageStats* st
   }
   const std::string json = summaryJson(result, *stages);
   writeFileAtomically(dir + "/stats.json", [&](std::ostream& out) { out << json; });
-  if (extra_files) extra_files(dir);
+  if (extra_files) extra_files(dir, result);
 }
 
 }  // namespace

@@ -156,7 +156,7 @@ std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, co
 // folder in out_dir and moved into place once all were written; on failure out_dir keeps what it
 // had. `extra_files`, when given, writes more files (the run report) into the staging folder it is
 // passed, so they belong to the same set. Throws pf2::Error naming the file.
-using ExtraFiles = std::function<void(const std::string& staging_dir)>;
+using ExtraFiles = std::function<void(const std::string& staging_dir, const SlamResult& result)>;
 void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages,
                      const ExtraFiles& extra_files = nullptr);
 
