@@ -90,17 +90,27 @@ void PoseGraphBackend::waitIdle() {
     return;
   }
   std::unique_lock<std::mutex> lock(queue_mutex_);
-  queue_changed_.wait(lock, [this] { return queue_.empty() && !busy_; });
+  queue_changed_.wait(lock, [this] { return (queue_.empty() && !busy_) || error_; });
+  if (error_) std::rethrow_exception(error_);
 }
 
 void PoseGraphBackend::workerLoop() {
-  for (;;) {
-    {
-      std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_changed_.wait(lock, [this] { return !queue_.empty() || stopping_; });
-      if (queue_.empty() && stopping_) return;
+  try {
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lock(queue_mutex_);
+        queue_changed_.wait(lock, [this] { return !queue_.empty() || stopping_; });
+        if (queue_.empty() && stopping_) return;
+      }
+      processPending();
     }
-    processPending();
+  } catch (...) {
+    // Handed to the front end by waitIdle(); the queue is dropped so that no one waits for it.
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    error_ = std::current_exception();
+    queue_.clear();
+    busy_ = false;
+    queue_changed_.notify_all();
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
 #include <thread>
 #include <vector>
 
@@ -17,17 +18,28 @@ void parallelChunks(std::size_t n, int threads, std::size_t chunk, const Fn& fn)
     return;
   }
   std::atomic<std::size_t> next{0};
+  // An exception (std::bad_alloc on a huge volume) in any worker is rethrown in the caller's thread
+  // after all have stopped, instead of terminating the program from a worker.
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(threads));
   const auto work = [&](int worker) {
-    for (;;) {
-      const std::size_t begin = next.fetch_add(chunk);
-      if (begin >= n) return;
-      fn(worker, begin, std::min(n, begin + chunk));
+    try {
+      for (;;) {
+        const std::size_t begin = next.fetch_add(chunk);
+        if (begin >= n) return;
+        fn(worker, begin, std::min(n, begin + chunk));
+      }
+    } catch (...) {
+      errors[static_cast<std::size_t>(worker)] = std::current_exception();
+      next = n;  // the others stop at their next chunk
     }
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
   work(0);
   for (auto& thread : pool) thread.join();
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
 }
 
 }  // namespace surface_detail

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
@@ -109,11 +110,46 @@ void saveMeshObj(const TriangleMesh& mesh, const std::string& path) {
   });
 }
 
-TriangleMesh loadMeshPly(const std::string& path) {
-  {
-    std::ifstream probe(path);
-    if (!probe) throw fileError(path, "cannot open for reading");
+namespace {
+
+// Reads the PLY header and refuses counts the file cannot hold (every vertex takes at least 3
+// bytes in ASCII and 12 in binary, every face at least 7 and 13) before PCL allocates for them:
+// a header claiming 10^9 vertices would otherwise cost gigabytes before failing.
+void checkPlyHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw fileError(path, "cannot open for reading");
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) throw fileError(path, "not a PLY file (no 'ply' header)");
+  bool ascii = false;
+  double vertices = 0, faces = 0;
+  for (int n = 0; std::getline(in, line) && line.rfind("end_header", 0) != 0; ++n) {
+    if (n > 1000) throw fileError(path, "PLY header without end_header in its first 1000 lines");
+    std::istringstream fields(line);
+    std::string word, element;
+    fields >> word;
+    if (word == "format") ascii = line.find("ascii") != std::string::npos;
+    double count = 0;
+    if (word == "element" && (fields >> element >> count)) {
+      if (element == "vertex") vertices = count;
+      if (element == "face") faces = count;
+    }
   }
+  const auto header_end = static_cast<double>(in.tellg());
+  in.seekg(0, std::ios::end);
+  const double body_bytes = static_cast<double>(in.tellg()) - header_end;
+  const double needed = ascii ? 3 * vertices + 7 * faces : 12 * vertices + 13 * faces;
+  if (vertices < 0 || faces < 0 || needed > body_bytes) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "PLY header claims %.0f vertices and %.0f faces, more than its %.0f bytes can hold",
+                  vertices, faces, body_bytes);
+    throw fileError(path, text);
+  }
+}
+
+}  // namespace
+
+TriangleMesh loadMeshPly(const std::string& path) {
+  checkPlyHeader(path);
   pcl::PolygonMesh polygon_mesh;
   if (pcl::io::loadPLYFile(path, polygon_mesh) < 0) throw fileError(path, "not a readable PLY mesh");
   TriangleMesh mesh = fromPolygonMesh(polygon_mesh);

@@ -33,6 +33,7 @@ refused "bad.cfg:2: setting filter.mask_reach = -4" "$slam" --config "$work/bad.
 printf 'map.buidl false\n' > "$work/typo.cfg"
 refused "typo.cfg:1: unknown key 'map.buidl'" "$slam" --config "$work/typo.cfg"
 refused "is a folder, not a config file" "$slam" --config "$work"
+refused "the map of a 100 m^2 room would need about 750.0 GB" "$slam" --set map.voxel_size=0.002 --set map.truncation=1
 # The dedicated options are settings too: checked against the same ranges, the option named.
 refused "option --frames: setting run.max_frames = -5: outside its range" "$slam" --frames -5
 refused "option --depth-scale: setting input.depth_scale = 0" "$slam" --depth-scale 0

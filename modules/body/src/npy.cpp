@@ -96,8 +96,12 @@ void skipSpaces(const std::string& s, std::size_t* at) {
 }  // namespace
 
 std::size_t NpyArray::elementCount() const {
+  // Saturates instead of wrapping around, so a corrupt shape can never match a small buffer.
   std::size_t count = 1;
-  for (const std::size_t d : shape) count *= d;
+  for (const std::size_t d : shape) {
+    if (d != 0 && count > (std::size_t{1} << 40) / d) return std::size_t{1} << 40;
+    count *= d;
+  }
   return count;
 }
 
@@ -309,8 +313,14 @@ NpyArray NpzReader::read(const std::string& name) const {
       (stat.valid & ZIP_STAT_SIZE) == 0) {
     throw Error(where + ": cannot read its zip entry: " + zip_strerror(archive));
   }
-  // A corrupt size field must not make us allocate without bound.
-  if (stat.size > (zip_uint64_t{1} << 34)) throw Error(where + ": zip entry claims an absurd size");
+  // A corrupt size field must not make us allocate without bound: a body model's largest array is
+  // tens of megabytes, and deflate expands at most about 1030 times.
+  constexpr zip_uint64_t kMaxEntryBytes = zip_uint64_t{1} << 30;
+  const bool compressed_known = (stat.valid & ZIP_STAT_COMP_SIZE) != 0;
+  if (stat.size > kMaxEntryBytes || (compressed_known && stat.size > 1100 * stat.comp_size + 4096)) {
+    throw Error(where + ": zip entry claims " + std::to_string(stat.size) +
+                " bytes, more than a model array can hold (corrupt archive?)");
+  }
   std::unique_ptr<zip_file_t, int (*)(zip_file_t*)> file(
       zip_fopen_index(archive, static_cast<zip_uint64_t>(index), 0), &zip_fclose);
   if (!file) throw Error(where + ": cannot open its zip entry: " + zip_strerror(archive));

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <exception>
 #include <iostream>
+#include <new>
+#include <string>
 
 #include "pf2/core/error.h"
 
@@ -109,12 +111,32 @@ void keepFreedImageMemory() {
 #endif
 }
 
+namespace {
+
+// One readable line: line breaks become spaces, and a message made long by the text it quotes
+// (a 10 MB line of garbage) keeps its start and end (file, line and what was expected come first).
+std::string oneReadableLine(std::string message) {
+  constexpr size_t kMaxLength = 400;
+  for (char& c : message) {
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+  }
+  if (message.size() <= kMaxLength) return message;
+  return message.substr(0, kMaxLength - 100) + " [... " + std::to_string(message.size() - kMaxLength + 20) +
+         " characters left out ...] " + message.substr(message.size() - 80);
+}
+
+}  // namespace
+
 int runApp(const char* program, int (*body)(int, char**), int argc, char** argv) {
   keepFreedImageMemory();
   try {
     return body(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::cerr << program << ": error: out of memory (a setting or an input asks for more than this machine has)"
+              << std::endl;
+    return 1;
   } catch (const std::exception& e) {
-    std::cerr << program << ": error: " << e.what() << std::endl;
+    std::cerr << program << ": error: " << oneReadableLine(e.what()) << std::endl;
     return 1;
   }
 }

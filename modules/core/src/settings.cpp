@@ -129,8 +129,14 @@ Settings& Settings::custom(const std::string& key, std::function<void(const std:
   return add({key, "", allowed, meaning, "", std::move(parse), std::move(print), [] { return true; }});
 }
 
+Settings& Settings::require(std::function<bool()> holds, const std::string& description,
+                            std::function<std::string()> details) {
+  rules_.push_back({std::move(holds), description, std::move(details)});
+  return *this;
+}
+
 Settings& Settings::require(std::function<bool()> holds, const std::string& message) {
-  rules_.emplace_back(std::move(holds), message);
+  rules_.push_back({std::move(holds), message, nullptr});
   return *this;
 }
 
@@ -181,8 +187,8 @@ void Settings::validate() const {
                   (entry.unit.empty() ? "" : " " + entry.unit));
     }
   }
-  for (const auto& [holds, message] : rules_) {
-    if (!holds()) throw Error("settings: " + message);
+  for (const Rule& rule : rules_) {
+    if (!rule.holds()) throw Error("settings: " + (rule.details ? rule.details() : rule.description));
   }
 }
 
@@ -204,7 +210,7 @@ std::string Settings::markdown() const {
         << e.meaning << " |\n";
   }
   if (!rules_.empty()) out << "\nBetween settings:\n\n";
-  for (const auto& rule : rules_) out << "- " << rule.second << "\n";
+  for (const Rule& rule : rules_) out << "- " << rule.description << "\n";
   return out.str();
 }
 

@@ -1,9 +1,12 @@
 #include "pf2/slam/slam_options.h"
 
-#include "pf2/filters/filter_settings.h"
+#include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
 
 #include "pf2/core/error.h"
+#include "pf2/filters/filter_settings.h"
 
 namespace pf2 {
 
@@ -42,6 +45,22 @@ Mapper::Options SlamOptions::defaultMapperOptions() {
 namespace {
 
 constexpr double kPi = 3.14159265358979;
+
+// What the TSDF of a room with 100 m^2 of surface takes: the blocks along the truncation band
+// (at least one 8-voxel block thick), 20-byte voxels, half as much again for the hash table and
+// the blocks the band only grazes.
+double mapBytesPerRoom(const TsdfVolume::Options& tsdf) {
+  const double band = std::max(2.0 * tsdf.truncation, 8.0 * tsdf.voxel_size);
+  const double voxels_per_m2 = band / (tsdf.voxel_size * tsdf.voxel_size * tsdf.voxel_size);
+  return 100.0 * voxels_per_m2 * sizeof(TsdfVolume::Voxel) * 1.5;
+}
+
+// Three quarters of the machine's physical memory.
+double usableMemoryBytes() {
+  const double pages = static_cast<double>(::sysconf(_SC_PHYS_PAGES));
+  const double page = static_cast<double>(::sysconf(_SC_PAGESIZE));
+  return pages > 0 && page > 0 ? 0.75 * pages * page : 8e9;
+}
 
 void detectorSettings(SlamOptions& o, Settings& s) {
   std::vector<std::string> names{"auto", "none"};
@@ -156,6 +175,19 @@ void mapSettings(SlamOptions& o, Settings& s) {
   s.number("map.voxel_size", &m.tsdf.voxel_size, 0.002, 0.2, "metres", "TSDF voxel edge");
   s.number("map.truncation", &m.tsdf.truncation, 0.004, 1.0, "metres", "TSDF truncation distance");
   s.require([&m] { return m.tsdf.truncation >= m.tsdf.voxel_size; }, "map.truncation must lie in the range [map.voxel_size, 1]");
+  s.require([&m] { return mapBytesPerRoom(m.tsdf) <= usableMemoryBytes(); },
+            "the TSDF of a 100 m^2 room (map.voxel_size, map.truncation) must fit in three quarters of the "
+            "machine's memory",
+            [&m] {
+              char text[320];
+              std::snprintf(text, sizeof(text),
+                            "map.voxel_size = %g m with map.truncation = %g m: the map of a 100 m^2 room would need "
+                            "about %.1f GB, more than the %.1f GB this machine can give it; use a larger voxel or a "
+                            "smaller truncation",
+                            m.tsdf.voxel_size, m.tsdf.truncation, mapBytesPerRoom(m.tsdf) / 1e9,
+                            usableMemoryBytes() / 1e9);
+              return std::string(text);
+            });
   s.number("map.max_depth", &m.tsdf.max_depth, 0.3, 20.0, "metres", "depth beyond is not fused");
   s.boolean("map.octomap", &m.build_occupancy, "build the OctoMap");
   s.number("map.octomap_resolution", &m.occupancy.resolution, 0.01, 1.0, "metres", "OctoMap leaf size");

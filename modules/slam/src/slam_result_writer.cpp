@@ -67,6 +67,7 @@ void writeFiles(const std::string& dir, const SlamResult& result, StageStats* st
 
 // The files are written into a staging folder inside out_dir and moved into place only when all
 // of them were written: a failure (a full disk during the map export) leaves out_dir as it was.
+// Moving them is renames within one file system: no partial file is ever visible.
 void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages,
                      const ExtraFiles& extra_files) {
   namespace fs = std::filesystem;
@@ -78,9 +79,14 @@ void writeSlamResult(const std::string& out_dir, const SlamResult& result, Stage
   }
   try {
     writeFiles(staging.string(), result, stages, extra_files);
+    // stats.json marks a complete run: the old one goes first and the new one comes last, so a
+    // folder interrupted while the files move (a kill, a power cut) has no stats.json rather
+    // than one that belongs to other files.
+    fs::remove(fs::path(out_dir) / "stats.json");
     for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
-      fs::rename(entry.path(), fs::path(out_dir) / entry.path().filename());
+      if (entry.path().filename() != "stats.json") fs::rename(entry.path(), fs::path(out_dir) / entry.path().filename());
     }
+    fs::rename(staging / "stats.json", fs::path(out_dir) / "stats.json");
   } catch (const fs::filesystem_error& e) {
     fs::remove_all(staging, ignored);
     throw fileError(out_dir, std::string("cannot write the outputs: ") + e.what());

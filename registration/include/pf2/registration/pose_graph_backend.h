@@ -10,6 +10,7 @@
 // must not call back into the back-end.
 #include <condition_variable>
 #include <deque>
+#include <exception>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -137,6 +138,7 @@ class PoseGraphBackend {
   std::deque<Pending> queue_;
   bool busy_ = false;
   bool stopping_ = false;
+  std::exception_ptr error_;  // what ended the worker thread, rethrown by waitIdle()
   std::thread worker_;
   std::vector<LoopClosure> closures_;
   int optimisations_ = 0;

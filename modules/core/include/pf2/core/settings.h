@@ -42,6 +42,10 @@ class Settings {
                    std::function<std::string()> print, const std::string& allowed, const std::string& meaning);
   // A rule between settings, checked by validate(): `holds` must be true, else the message.
   Settings& require(std::function<bool()> holds, const std::string& message);
+  // The same with a message made from the values when the rule fails (`description` goes into
+  // the docs, `details()` into the error).
+  Settings& require(std::function<bool()> holds, const std::string& description,
+                    std::function<std::string()> details);
 
   // Sets one setting from text. Throws pf2::Error "setting KEY = VALUE: ..." naming the expected
   // type or the allowed range, or the unknown key.
@@ -80,7 +84,12 @@ class Settings {
   const Entry& find(const std::string& key) const;
 
   std::vector<Entry> entries_;
-  std::vector<std::pair<std::function<bool()>, std::string>> rules_;
+  struct Rule {
+    std::function<bool()> holds;
+    std::string description;
+    std::function<std::string()> details;  // may be empty: the description is the message
+  };
+  std::vector<Rule> rules_;
 };
 
 }  // namespace pf2

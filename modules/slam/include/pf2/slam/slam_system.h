@@ -153,8 +153,8 @@ std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, co
 // Saves a result folder: trajectory.txt, humans.txt (with has_humans), the map files (with a map;
 // their export time goes into `stages` as "map_export"), then stats.json (summary, `stages`, the
 // tracker's sub-stages, each frame's status). The files appear as a set: written into a staging
-// folder in out_dir and moved into place once all were written; on failure out_dir keeps what it
-// had. `extra_files`, when given, writes more files (the run report) into the staging folder it is
+// folder in out_dir and moved into place once all were written, stats.json last (a folder with
+// stats.json holds one complete run); on failure out_dir keeps what it had. `extra_files`, when given, writes more files (the run report) into the staging folder it is
 // passed, so they belong to the same set. Throws pf2::Error naming the file.
 using ExtraFiles = std::function<void(const std::string& staging_dir, const SlamResult& result)>;
 void writeSlamResult(const std::string& out_dir, const SlamResult& result, StageStats* stages,
