@@ -191,6 +191,8 @@ void mapSettings(SlamOptions& o, Settings& s) {
   s.number("map.max_depth", &m.tsdf.max_depth, 0.3, 20.0, "metres", "depth beyond is not fused");
   s.boolean("map.octomap", &m.build_occupancy, "build the OctoMap");
   s.number("map.octomap_resolution", &m.occupancy.resolution, 0.01, 1.0, "metres", "OctoMap leaf size");
+  s.integer("map.octomap_stride", &m.occupancy.pixel_stride, 1, 64, "pixels",
+            "every n-th pixel (both axes) becomes an OctoMap ray");
   s.integer("map.max_stored_keyframes", &m.max_stored_keyframes, 0, 100000, "keyframes",
             "keyframes kept re-integrable (0 = unbounded)");
   s.number("map.keep_radius", &m.keep_radius, 0.0, 1000.0, "metres", "TSDF kept around the camera (0 = unbounded)");
