@@ -287,6 +287,10 @@ int run(int argc, char** argv) {
   std::signal(SIGINT, SIG_DFL);
 
   printSummary(stream->description(), result.summary, system.stats());
+  if (result.map && result.map->tsdf().blockCount() == 0) {
+    std::fprintf(stderr, "pf2_slam: warning: the map is empty: no depth was fused (every measurement beyond "
+                         "map.max_depth = %g m, removed, or no frame posed)\n", options.mapper.tsdf.max_depth);
+  }
   if (truth) printAccuracy(*truth, result.trajectory);
   printOutputs(in.out_dir, options, result.summary.detector);
   return 0;

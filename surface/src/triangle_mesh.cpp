@@ -152,8 +152,12 @@ TriangleMesh loadMeshPly(const std::string& path) {
   checkPlyHeader(path);
   pcl::PolygonMesh polygon_mesh;
   if (pcl::io::loadPLYFile(path, polygon_mesh) < 0) throw fileError(path, "not a readable PLY mesh");
-  TriangleMesh mesh = fromPolygonMesh(polygon_mesh);
-  if (mesh.vertices.empty()) throw fileError(path, "PLY holds no vertices");
+  TriangleMesh mesh;
+  try {
+    mesh = fromPolygonMesh(polygon_mesh);
+  } catch (const Error& e) {
+    throw fileError(path, e.what());
+  }
   return mesh;
 }
 
@@ -207,7 +211,11 @@ TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& polygon_mesh) {
     const auto& v = polygon.vertices;
     for (std::size_t k = 1; k + 1 < v.size(); ++k) {
       const Eigen::Vector3i t(static_cast<int>(v[0]), static_cast<int>(v[k]), static_cast<int>(v[k + 1]));
-      if ((t.array() >= 0).all() && (t.array() < n).all()) mesh.triangles.push_back(t);
+      if (!((t.array() >= 0).all() && (t.array() < n).all())) {
+        throw Error("a face refers to vertex " + std::to_string(t.minCoeff() < 0 ? t.minCoeff() : t.maxCoeff()) +
+                    " of " + std::to_string(n));
+      }
+      mesh.triangles.push_back(t);
     }
   }
   return mesh;

@@ -63,6 +63,13 @@ printf 'run.max_frames 10\n' > "$work/ten.cfg"
 # --masks: one removed-depth mask per frame, named by timestamp; no partial folder left.
 [ "$(ls "$work/run8/masks" | grep -c '\.png$')" -eq 8 ] || fail "--masks did not write 8 masks"
 [ ! -e "$work/run8/masks.partial" ] || fail "--masks left masks.partial"
+# A second run into the same folder replaces the first run's files, those it does not write too:
+# no map and no masks of the first run stay beside the second run's trajectory.
+"$slam" "$out/synthetic" -o "$work/no_octomap" --detector none --frames 4 --no-map --quiet > /dev/null 2>&1 \
+  || fail "second run into a folder failed"
+[ ! -e "$work/no_octomap/map.ply" ] || fail "a rerun without a map left the first run's map.ply"
+[ "$(grep -vc '^#' "$work/no_octomap/trajectory.txt")" -eq 4 ] || fail "the rerun's trajectory is not the rerun's"
+ls -a "$work/no_octomap" | grep -q partial && fail "a rerun left a staging folder"
 
 [ "$failures" -eq 0 ] && echo "pf2_slam_cli: all checks passed"
 exit $((failures > 0))

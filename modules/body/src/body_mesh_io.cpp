@@ -1,5 +1,6 @@
 #include "pf2/body/body_mesh_io.h"
 
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -62,6 +63,7 @@ void writeBodyMesh(const std::string& path, const BodyMesh& mesh) {
 namespace pf2 {
 
 void readBodyPoseFile(const std::string& path, BodyParameters* parameters) {
+  std::array<int, kBodyJointCount> line_of{};  // 0 = not given yet
   forEachDataLine(path, "pose file", [&](std::string line, int line_number) {
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
@@ -75,9 +77,15 @@ void readBodyPoseFile(const std::string& path, BodyParameters* parameters) {
     if (joint < 0) throw fileError(path, line_number, "unknown joint '" + name + "'");
     Eigen::Vector3d r;
     std::string extra;
-    if (!(s >> r.x() >> r.y() >> r.z()) || (s >> extra) || !r.allFinite()) {
-      throw fileError(path, line_number, "expected 'NAME ax ay az' (three finite numbers)");
+    // An axis-angle beyond a few turns is a broken number, not a pose (and would overflow the mesh).
+    if (!(s >> r.x() >> r.y() >> r.z()) || (s >> extra) || !r.allFinite() || r.norm() > 100.0) {
+      throw fileError(path, line_number, "expected 'NAME ax ay az' (three finite numbers, an angle of at most 100 rad)");
     }
+    if (line_of[joint] != 0) {
+      throw fileError(path, line_number, "joint '" + name + "' set twice (first on line " +
+                                             std::to_string(line_of[joint]) + ")");
+    }
+    line_of[joint] = line_number;
     parameters->pose[joint] = r;
   });
 }

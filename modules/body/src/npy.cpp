@@ -1,6 +1,7 @@
 #include "pf2/body/npy.h"
 
 #include <zip.h>
+#include <zlib.h>
 
 #include <cstdio>
 #include <cstring>
@@ -333,6 +334,12 @@ NpyArray NpzReader::read(const std::string& name) const {
     filled += static_cast<std::size_t>(got);
   }
   if (filled != data.size()) throw Error(where + ": zip entry is truncated");
+  // libzip hands out the data even when it does not match the archive's checksum.
+  if ((stat.valid & ZIP_STAT_CRC) != 0 &&
+      crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size())) !=
+          stat.crc) {
+    throw Error(where + ": zip entry is corrupt (checksum mismatch)");
+  }
   return parseNpy(data, where);
 }
 

@@ -5,10 +5,13 @@
 #endif
 
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <iostream>
 #include <new>
 #include <string>
+
+#include <opencv2/core/utils/logger.hpp>
 
 #include "pf2/core/error.h"
 
@@ -115,11 +118,35 @@ namespace {
 
 // One readable line: line breaks become spaces, and a message made long by the text it quotes
 // (a 10 MB line of garbage) keeps its start and end (file, line and what was expected come first).
-std::string oneReadableLine(std::string message) {
-  constexpr size_t kMaxLength = 400;
-  for (char& c : message) {
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+// Control characters and bytes that are not UTF-8 (garbage quoted from a broken file) as \xNN.
+std::string printable(const std::string& text) {
+  std::string out;
+  char escaped[8];
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    // The length of a well-formed UTF-8 sequence starting here (1 for ASCII), 0 when malformed.
+    size_t length = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xe ? 3 : (c >> 3) == 0x1e ? 4 : 0;
+    for (size_t k = 1; k < length; ++k) {
+      if (i + k >= text.size() || (static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) length = 0;
+    }
+    if (c == '\n' || c == '\r' || c == '\t') {
+      out += ' ';
+      i += 1;
+    } else if (length == 0 || c < 0x20 || c == 0x7f) {
+      std::snprintf(escaped, sizeof(escaped), "\\x%02X", c);
+      out += escaped;
+      i += 1;
+    } else {
+      out.append(text, i, length);
+      i += length;
+    }
   }
+  return out;
+}
+
+std::string oneReadableLine(const std::string& raw) {
+  constexpr size_t kMaxLength = 400;
+  std::string message = printable(raw);
   if (message.size() <= kMaxLength) return message;
   return message.substr(0, kMaxLength - 100) + " [... " + std::to_string(message.size() - kMaxLength + 20) +
          " characters left out ...] " + message.substr(message.size() - 80);
@@ -129,6 +156,8 @@ std::string oneReadableLine(std::string message) {
 
 int runApp(const char* program, int (*body)(int, char**), int argc, char** argv) {
   keepFreedImageMemory();
+  // OpenCV's own warnings (an unreadable image) would come before our one error line.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   try {
     return body(argc, argv);
   } catch (const std::bad_alloc&) {

@@ -23,8 +23,9 @@ bool parseTumLine(const std::string& line, StampedPose* pose) {
     if (!(in >> x) || !std::isfinite(x)) return false;
   }
   Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+  // A quaternion so large its norm overflows would normalise to nonsense: refused like a zero one.
   const double norm = q.norm();
-  if (!(norm > 1e-9)) return false;
+  if (!(norm > 1e-9) || !std::isfinite(norm)) return false;
   q.coeffs() /= norm;
   pose->timestamp = v[0];
   pose->T_w_c = Eigen::Isometry3d::Identity();

@@ -9,6 +9,7 @@
 #include "nearest_stamp.h"
 #include "pf2/core/text_lines.h"
 #include "pf2/core/error.h"
+#include "pf2/io/image_file.h"
 
 namespace pf2 {
 
@@ -67,8 +68,7 @@ Detections GtDetector::detect(const Frame& frame) {
     if (!file) {
       throw Error(options_.gt_folder + "/masks: no mask for frame " + std::to_string(frame.timestamp));
     }
-    ids = cv::imread(*file, cv::IMREAD_UNCHANGED);
-    if (ids.empty()) throw fileError(*file, "cannot read mask image");
+    ids = readImageFile(*file, cv::IMREAD_UNCHANGED, "ground-truth mask", frame.depth.size());
     if ((ids.type() != CV_16U && ids.type() != CV_8U) || (!frame.depth.empty() && ids.size() != frame.depth.size())) {
       throw fileError(*file, "mask must be a single-channel 8/16-bit image of the frame's size");
     }

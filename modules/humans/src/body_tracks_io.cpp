@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -115,6 +116,8 @@ void writeBodyTracksJson(const std::string& path, const std::vector<BodyTrack>& 
 }
 
 std::vector<BodyTrack> readBodyTracksJson(const std::string& path) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw fileError(path, "is a folder, not humans.json");
   std::ifstream in(path);
   if (!in) throw fileError(path, "cannot open humans.json");
   nlohmann::json root;

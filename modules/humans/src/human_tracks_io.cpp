@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
@@ -50,6 +51,7 @@ void writeHumanTracks(const std::string& path, const std::vector<HumanTrack>& tr
 
 std::vector<HumanTrack> readHumanTracks(const std::string& path) {
   std::map<int, HumanTrack> by_id;
+  std::map<std::pair<double, int>, std::vector<int>> lines;  // (timestamp, id) -> line numbers
   forEachDataLine(path, "human trajectory file", [&](const std::string& line, int number) {
     std::istringstream fields(line);
     double timestamp = 0, x = 0, y = 0, z = 0;
@@ -62,7 +64,15 @@ std::vector<HumanTrack> readHumanTracks(const std::string& path) {
     HumanTrack& track = by_id[static_cast<int>(id)];
     track.id = static_cast<int>(id);
     track.points.push_back({timestamp, Eigen::Vector3d(x, y, z)});
+    lines[{timestamp, static_cast<int>(id)}].push_back(number);
   });
+  // One position per person and frame: a repeated (timestamp, id) is a broken file.
+  for (const auto& [key, numbers] : lines) {
+    if (numbers.size() > 1) {
+      throw fileError(path, numbers[1], "person " + std::to_string(key.second) + " already has a position at this "
+                                        "timestamp (line " + std::to_string(numbers[0]) + ")");
+    }
+  }
   std::vector<HumanTrack> tracks;
   for (auto& [id, track] : by_id) {
     std::stable_sort(track.points.begin(), track.points.end(),

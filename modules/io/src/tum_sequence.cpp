@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/io/image_file.h"
 #include "pf2/io/trajectory_io.h"
 
 namespace pf2 {
@@ -37,7 +38,9 @@ CameraIntrinsics intrinsicsForFolder(const std::string& folder,
                                      const std::string& calibration_file) {
   if (!calibration_file.empty()) return CameraIntrinsics::load(calibration_file);
   const std::string in_folder = join(folder, "camera.txt");
-  if (fileExists(in_folder)) return CameraIntrinsics::load(in_folder);
+  // Whatever is there under that name is read (a folder named camera.txt is an error, not absent).
+  struct stat info;
+  if (::stat(in_folder.c_str(), &info) == 0) return CameraIntrinsics::load(in_folder);
   // Bonn folders are published without a calibration file; their name is the only hint.
   if (isBonnDynamicFolder(folder)) return CameraIntrinsics::bonnDynamic();
   // The benchmark's folder names say which Kinect recorded them.
@@ -63,14 +66,19 @@ TumSequence::TumSequence(const std::string& folder, const Options& options)
   intrinsics_ = intrinsicsForFolder(folder, options.calibration_file);
 
   if (!options.associations_file.empty()) {
+    rgb_list_ = depth_list_ = options.associations_file;
     pairs_ = readTumAssociations(options.associations_file);
     if (pairs_.empty()) throw fileError(options.associations_file, "no associations in file");
     return;
   }
   const std::string rgb_list = join(folder, "rgb.txt");
   const std::string depth_list = join(folder, "depth.txt");
+  rgb_list_ = rgb_list;
+  depth_list_ = depth_list;
   const std::vector<TumListEntry> rgb = readTumList(rgb_list);
   const std::vector<TumListEntry> depth = readTumList(depth_list);
+  if (rgb.empty()) throw fileError(rgb_list, "no images listed");
+  if (depth.empty()) throw fileError(depth_list, "no images listed");
   std::vector<double> rgb_stamps, depth_stamps;
   for (const auto& e : rgb) rgb_stamps.push_back(e.timestamp);
   for (const auto& e : depth) depth_stamps.push_back(e.timestamp);
@@ -93,10 +101,18 @@ Frame TumSequence::frame(size_t i) const {
   frame.index = static_cast<int>(i);
   frame.timestamp = pair.rgb.timestamp;
   frame.intrinsics = intrinsics_;
-  frame.rgb = cv::imread(rgb_path, cv::IMREAD_COLOR);
-  if (frame.rgb.empty()) throw fileError(rgb_path, "missing or unreadable colour image");
-  const cv::Mat raw_depth = cv::imread(depth_path, cv::IMREAD_UNCHANGED);
-  if (raw_depth.empty()) throw fileError(depth_path, "missing or unreadable depth image");
+  const cv::Size size(intrinsics_.width, intrinsics_.height);
+  // An image that cannot be read is named with the list line that named it.
+  const auto read = [&](const std::string& path, int flags, const std::string& what, const std::string& list,
+                        int line) {
+    try {
+      return readImageFile(path, flags, what, size);
+    } catch (const Error& e) {
+      throw Error(std::string(e.what()) + " (listed on " + list + ":" + std::to_string(line) + ")");
+    }
+  };
+  frame.rgb = read(rgb_path, cv::IMREAD_COLOR, "colour image", rgb_list_, pair.rgb.line);
+  const cv::Mat raw_depth = read(depth_path, cv::IMREAD_UNCHANGED, "depth image", depth_list_, pair.depth.line);
   if (raw_depth.type() != CV_16UC1) throw fileError(depth_path, "depth image is not 16-bit single channel");
   if (raw_depth.size() != frame.rgb.size()) {
     throw fileError(depth_path, "depth size differs from the colour image " + rgb_path);

@@ -41,6 +41,10 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
   return out.str();
 }
 
+// Every file a run can write into its folder (masks/ is handled by runToFolder).
+const char* const kOutputFiles[] = {"trajectory.txt", "stats.json", "report.html", "map.ply", "map.bt", "map.ot",
+                                    "map.pcd", "map.obj", "humans.txt", "humans.json", "scene.ply", "scene.obj"};
+
 // The files of one result, into `dir`.
 void writeFiles(const std::string& dir, const SlamResult& result, StageStats* stages, const ExtraFiles& extra_files) {
   writeTrajectory(dir + "/trajectory.txt", result.trajectory);
@@ -83,6 +87,11 @@ void writeSlamResult(const std::string& out_dir, const SlamResult& result, Stage
     // folder interrupted while the files move (a kill, a power cut) has no stats.json rather
     // than one that belongs to other files.
     fs::remove(fs::path(out_dir) / "stats.json");
+    // The files of an earlier run this one does not write (a map when this run has none) would
+    // sit beside the new ones as if they belonged to them.
+    for (const char* name : kOutputFiles) {
+      if (!fs::exists(staging / name)) fs::remove(fs::path(out_dir) / name);
+    }
     for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
       if (entry.path().filename() != "stats.json") fs::rename(entry.path(), fs::path(out_dir) / entry.path().filename());
     }

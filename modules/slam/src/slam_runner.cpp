@@ -120,10 +120,9 @@ SlamResult runToFolder(SlamSystem* system, FrameStream* stream, const std::strin
   try {
     const SlamResult result = SlamRunner(system, options).run(stream, stop);
     writeSlamResult(out_dir, result, &system->stats(), extra_files);
-    if (masks) {
-      fs::remove_all(out_dir + "/masks");
-      fs::rename(masks_partial, out_dir + "/masks");
-    }
+    // An earlier run's masks/ goes either way: it does not belong to this run's files.
+    fs::remove_all(out_dir + "/masks");
+    if (masks) fs::rename(masks_partial, out_dir + "/masks");
     return result;
   } catch (...) {
     fs::remove_all(masks_partial, ignored);

@@ -38,11 +38,13 @@ void saveMeshPly(const TriangleMesh& mesh, const std::string& path);
 // the edges (OBJ lines carry no colour: their vertices have it). For tools that take OBJ but not
 // PLY. Written to a temporary name and renamed. Throws pf2::Error naming the path.
 void saveMeshObj(const TriangleMesh& mesh, const std::string& path);
-// Reads any PLY triangle mesh PCL reads (ASCII or binary; polygons are fanned into triangles).
-// Throws pf2::Error naming the path when it cannot be read or holds no vertices.
+// Reads any PLY triangle mesh PCL reads (ASCII or binary; polygons are fanned into triangles); an
+// empty mesh (0 vertices, e.g. a map of nothing) reads as an empty TriangleMesh. Throws pf2::Error
+// naming the path when it cannot be read.
 TriangleMesh loadMeshPly(const std::string& path);
 
 // Conversion to and from PCL (point type pcl::PointXYZRGB when coloured, else pcl::PointXYZ).
+// fromPolygonMesh throws pf2::Error on a face that refers to a vertex the mesh does not have.
 void toPolygonMesh(const TriangleMesh& mesh, pcl::PolygonMesh* out);
 TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& mesh);
 

@@ -51,6 +51,7 @@ class TumSequence : public FrameSource {
 
  private:
   std::string folder_;
+  std::string rgb_list_, depth_list_;  // the files that list the images (named in errors)
   Options options_;
   CameraIntrinsics intrinsics_;
   std::vector<TumAssociation> pairs_;

@@ -1,0 +1,77 @@
+#include "pf2/io/image_file.h"
+
+#include <zlib.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "pf2/core/error.h"
+
+namespace pf2 {
+
+namespace {
+
+constexpr int kMaxSide = 16384;
+
+std::uint32_t bigEndian32(const unsigned char* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
+}
+
+// Walks the PNG's chunks up to IEND; returns the IHDR size. Throws naming the path and the fault.
+cv::Size checkPng(const std::string& path, const std::vector<unsigned char>& bytes, const std::string& what) {
+  cv::Size size;
+  size_t at = 8;
+  bool ended = false;
+  while (!ended) {
+    if (at + 12 > bytes.size()) throw fileError(path, what + " is truncated (PNG ends inside a chunk)");
+    const std::uint32_t length = bigEndian32(&bytes[at]);
+    if (length > bytes.size() - at - 12) throw fileError(path, what + " is truncated or corrupt (a PNG chunk runs past its end)");
+    const unsigned char* type = &bytes[at + 4];
+    const std::uint32_t crc = bigEndian32(&bytes[at + 8 + length]);
+    if (crc32(crc32(0L, Z_NULL, 0), type, length + 4) != crc) throw fileError(path, what + " is corrupt (PNG chunk CRC mismatch)");
+    const std::string name(reinterpret_cast<const char*>(type), 4);
+    if (name == "IHDR" && length >= 8) {
+      size = cv::Size(static_cast<int>(std::min<std::uint32_t>(bigEndian32(type + 4), kMaxSide + 1)),
+                      static_cast<int>(std::min<std::uint32_t>(bigEndian32(type + 8), kMaxSide + 1)));
+    }
+    ended = name == "IEND";
+    at += 12 + length;
+  }
+  if (size.area() == 0) throw fileError(path, what + " is corrupt (PNG without an image header)");
+  return size;
+}
+
+}  // namespace
+
+cv::Mat readImageFile(const std::string& path, int flags, const std::string& what, const cv::Size& expected) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw fileError(path, "is a folder, not a " + what);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw fileError(path, "missing or unreadable " + what);
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() >= 8 && std::equal(kPngSignature, kPngSignature + 8, bytes.begin())) {
+    const cv::Size size = checkPng(path, bytes, what);
+    if (size.width > kMaxSide || size.height > kMaxSide || (!expected.empty() && size != expected)) {
+      throw fileError(path, what + " is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                                (expected.empty() ? ", larger than 16384 pixels a side"
+                                                  : ", expected " + std::to_string(expected.width) + "x" +
+                                                        std::to_string(expected.height)));
+    }
+  }
+  cv::Mat image;
+  try {
+    image = cv::imdecode(bytes, flags);
+  } catch (const cv::Exception&) {
+    image.release();
+  }
+  if (image.empty()) throw fileError(path, "missing or unreadable " + what);
+  return image;
+}
+
+}  // namespace pf2
