@@ -43,7 +43,7 @@ for camera in xyz static halfsphere; do
       fail "single run $camera $detector"
     "$eval_bin" "$seq/groundtruth.txt" "$out/trajectory.txt" --rpe --json | tail -n 1 > "$out/eval.json"
     if [ -n "$humans" ] && [ -f "$out/humans.txt" ]; then
-      "$humans" "$seq" "$out" --json | tail -n 1 > "$out/humans.json"
+      "$humans" "$seq" "$out" --json | tail -n 1 > "$out/humans_eval.json"
     fi
   done
 done
@@ -70,7 +70,7 @@ for row in rows:
     assert close(row["rpe_rot_rmse_deg"], ate["rpe_rot_rmse_deg"], 1e-3), (where, row["rpe_rot_rmse_deg"])
     assert float(row["ate_rmse_m"]) > 0, where
     if humans and detector == "gt":
-        h = json.load(open(f"{single}/humans.json"))
+        h = json.load(open(f"{single}/humans_eval.json"))
         assert close(row["humans_recall"], h["recall"], 1e-3), (where, row["humans_recall"], h["recall"])
         assert int(row["humans_id_switches"]) == h["id_switches"], where
         assert close(row["humans_rmse_m"], h["rmse"], 1e-3), (where, row["humans_rmse_m"], h["rmse"])
