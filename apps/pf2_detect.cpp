@@ -28,6 +28,7 @@
 #include "pf2/filters/filter_settings.h"
 #include "pf2/filters/mask_metrics.h"
 #include "pf2/filters/person_removal.h"
+#include "pf2/io/image_file.h"
 #include "pf2/io/tum_sequence.h"
 
 namespace {
@@ -101,15 +102,6 @@ void makeDirectory(const std::string& path) {
 std::string baseName(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-void writePng(const std::string& path, const cv::Mat& image) {
-  const std::string temporary = pf2::temporaryPathFor(path);
-  if (!cv::imwrite(temporary, image)) {
-    std::remove(temporary.c_str());
-    throw pf2::fileError(path, "cannot write image");
-  }
-  pf2::commitTemporaryFile(temporary, path);
 }
 
 cv::Mat toTumDepth(const cv::Mat& depth_m) {
@@ -267,12 +259,11 @@ void removePeople(const DetectOptions& options, DetectSetup& setup, const pf2::F
 void writeAndScoreFrame(const DetectOptions& options, const DetectSetup& setup, size_t i, const pf2::Frame& frame,
                         const cv::Mat& static_depth, const cv::Mat& removed, pf2::MaskCounts* counts) {
   const std::string name = baseName(setup.sequence.files(i).depth.file);
-  writePng(options.out_dir + "/static_depth/" + name, toTumDepth(static_depth));
-  writePng(options.out_dir + "/masks/" + name, removed);
+  pf2::writeImageFile(options.out_dir + "/static_depth/" + name, toTumDepth(static_depth));
+  pf2::writeImageFile(options.out_dir + "/masks/" + name, removed);
   if (setup.have_masks) {
     const std::string mask_path = setup.gt_dir + "/masks/" + name;
-    const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
-    if (gt.empty()) throw pf2::fileError(mask_path, "cannot read ground-truth mask");
+    const cv::Mat gt = pf2::readImageFile(mask_path, cv::IMREAD_UNCHANGED, "ground-truth mask", frame.depth.size());
     if (gt.size() != frame.depth.size() || gt.channels() != 1) {
       throw pf2::fileError(mask_path, "ground-truth mask is not single-channel of the depth's size");
     }

@@ -95,6 +95,9 @@ int run(int argc, char** argv) {
   const pf2::Trajectory estimate = pf2::readTrajectory(files[1]);
   if (estimate.empty()) throw pf2::fileError(files[1], "no poses in file");
 
+  // An alignment needs two poses on each side: a file with one is named, not left to the metric.
+  if (ground_truth.size() < 2) throw pf2::fileError(files[0], "one pose only; the alignment needs at least 2");
+  if (estimate.size() < 2) throw pf2::fileError(files[1], "one pose only; the alignment needs at least 2");
   const pf2::AteResult ate = pf2::computeAte(ground_truth, estimate, ate_options);
   pf2::RpeResult rpe;
   if (with_rpe) rpe = pf2::computeRpe(ground_truth, estimate, rpe_options);

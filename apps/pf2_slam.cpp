@@ -174,14 +174,16 @@ const std::vector<pf2::SettingShortcut> kShortcuts = {
     {"--seed", "synth.seed"},                  {"--no-bodies", "bodies.fit", "false"},
     {"--bodies-every", "bodies.scene_every"}};
 
-// Ctrl-C: the first one asks the run to stop after the frames in flight and to write its outputs;
-// a second one ends the program at once.
+// Ctrl-C asks the run to stop after the frames in flight and to write its outputs; later ones are
+// only answered, so that no Ctrl-C ever leaves a folder mixing two runs (Ctrl-\ still aborts).
 std::atomic<bool> g_stop_requested{false};
 
 void onInterrupt(int) {
-  if (g_stop_requested.exchange(true)) std::_Exit(130);
-  const char message[] = "\npf2_slam: stopping after the frames in flight (Ctrl-C again to abort)\n";
-  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, message, sizeof(message) - 1);
+  const bool again = g_stop_requested.exchange(true);
+  const char first[] = "\npf2_slam: stopping after the frames in flight, then writing the outputs\n";
+  const char later[] = "\npf2_slam: still finishing and writing the outputs (Ctrl-\\ aborts and may leave them incomplete)\n";
+  [[maybe_unused]] const ssize_t written =
+      again ? ::write(STDERR_FILENO, later, sizeof(later) - 1) : ::write(STDERR_FILENO, first, sizeof(first) - 1);
 }
 
 // Where the frames come from and where the results go, from the command line.

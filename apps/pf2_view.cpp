@@ -8,7 +8,7 @@
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
-#include <vtkPNGWriter.h>
+#include <vtkImageData.h>
 #include <vtkPoints.h>
 #include <vtkRendererCollection.h>
 #include <vtkRenderer.h>
@@ -20,6 +20,8 @@
 #include <vtkWindowToImageFilter.h>
 
 #include <X11/Xlib.h>
+
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <array>
@@ -37,6 +39,7 @@
 #include "pf2/core/error.h"
 #include "pf2/core/settings.h"
 #include "pf2/humans/body_tracks_io.h"
+#include "pf2/io/image_file.h"
 #include "pf2/humans/human_track.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/surface/triangle_mesh.h"
@@ -241,16 +244,18 @@ void saveScreenshot(vtkRenderWindow* window, const std::string& path) {
   auto grab = vtkSmartPointer<vtkWindowToImageFilter>::New();
   grab->SetInput(window);
   grab->ReadFrontBufferOff();
+  grab->SetInputBufferTypeToRGB();
   grab->Update();
-  std::error_code ignored;
-  fs::remove(path, ignored);
-  auto writer = vtkSmartPointer<vtkPNGWriter>::New();
-  writer->SetFileName(path.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0 || !fs::exists(path) || fs::file_size(path) == 0) {
-    throw pf2::fileError(path, "cannot write the screenshot");
-  }
+  // VTK's rows run bottom to top, RGB; written through our own writer (one error line on a full
+  // disk, never half a file).
+  vtkImageData* image = grab->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  const cv::Mat rgb(dims[1], dims[0], CV_8UC3, image->GetScalarPointer());
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  cv::flip(bgr, bgr, 0);
+  pf2::writeImageFile(path, bgr);
 }
 
 // The people's bodies (humans.json) at one moment: each person's last fitted body (the view

@@ -10,6 +10,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
 
 namespace pf2 {
@@ -36,8 +37,12 @@ cv::Size checkPng(const std::string& path, const std::vector<unsigned char>& byt
     if (crc32(crc32(0L, Z_NULL, 0), type, length + 4) != crc) throw fileError(path, what + " is corrupt (PNG chunk CRC mismatch)");
     const std::string name(reinterpret_cast<const char*>(type), 4);
     if (name == "IHDR" && length >= 8) {
-      size = cv::Size(static_cast<int>(std::min<std::uint32_t>(bigEndian32(type + 4), kMaxSide + 1)),
-                      static_cast<int>(std::min<std::uint32_t>(bigEndian32(type + 8), kMaxSide + 1)));
+      const std::uint32_t width = bigEndian32(type + 4), height = bigEndian32(type + 8);
+      if (width > kMaxSide || height > kMaxSide) {
+        throw fileError(path, what + " is " + std::to_string(width) + "x" + std::to_string(height) +
+                                  ", larger than 16384 pixels a side");
+      }
+      size = cv::Size(static_cast<int>(width), static_cast<int>(height));
     }
     ended = name == "IEND";
     at += 12 + length;
@@ -57,11 +62,9 @@ cv::Mat readImageFile(const std::string& path, int flags, const std::string& wha
   static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (bytes.size() >= 8 && std::equal(kPngSignature, kPngSignature + 8, bytes.begin())) {
     const cv::Size size = checkPng(path, bytes, what);
-    if (size.width > kMaxSide || size.height > kMaxSide || (!expected.empty() && size != expected)) {
+    if (!expected.empty() && size != expected) {
       throw fileError(path, what + " is " + std::to_string(size.width) + "x" + std::to_string(size.height) +
-                                (expected.empty() ? ", larger than 16384 pixels a side"
-                                                  : ", expected " + std::to_string(expected.width) + "x" +
-                                                        std::to_string(expected.height)));
+                                ", expected " + std::to_string(expected.width) + "x" + std::to_string(expected.height));
     }
   }
   cv::Mat image;
@@ -72,6 +75,22 @@ cv::Mat readImageFile(const std::string& path, int flags, const std::string& wha
   }
   if (image.empty()) throw fileError(path, "missing or unreadable " + what);
   return image;
+}
+
+void writeImageFile(const std::string& path, const cv::Mat& image) {
+  const auto dot = path.find_last_of('.');
+  const std::string extension = dot == std::string::npos ? "" : path.substr(dot);
+  std::vector<unsigned char> bytes;
+  bool encoded = false;
+  try {
+    encoded = cv::imencode(extension, image, bytes);
+  } catch (const cv::Exception&) {
+    encoded = false;
+  }
+  if (!encoded) throw fileError(path, "cannot encode the image as '" + extension + "'");
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  });
 }
 
 }  // namespace pf2

@@ -15,8 +15,8 @@ Trajectory readTrajectory(const std::string& path) {
     StampedPose pose;
     if (!parseTumLine(line, &pose)) {
       throw fileError(path, line_number,
-                      "expected 'timestamp tx ty tz qx qy qz qw' with finite numbers and a "
-                      "non-zero quaternion, got '" + line + "'");
+                      "expected 'timestamp tx ty tz qx qy qz qw' with finite numbers and a quaternion "
+                      "of finite, non-zero norm, got '" + line + "'");
     }
     trajectory.push_back(pose);
     lines.push_back(line_number);

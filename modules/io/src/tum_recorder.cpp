@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/io/image_file.h"
 
 namespace pf2 {
 
@@ -40,10 +41,8 @@ void TumRecorder::add(const Frame& frame) {
   const std::string rgb = std::string("rgb/") + stamp + ".png", depth = std::string("depth/") + stamp + ".png";
   cv::Mat depth_units;
   frame.depth.convertTo(depth_units, CV_16U, kDepthUnitsPerMetre);
-  if (!cv::imwrite(folder_ + "/" + rgb, frame.rgb)) throw fileError(folder_ + "/" + rgb, "cannot write the image");
-  if (!cv::imwrite(folder_ + "/" + depth, depth_units)) {
-    throw fileError(folder_ + "/" + depth, "cannot write the image");
-  }
+  writeImageFile(folder_ + "/" + rgb, frame.rgb);
+  writeImageFile(folder_ + "/" + depth, depth_units);
   rgb_list_ << stamp << ' ' << rgb << '\n' << std::flush;
   depth_list_ << stamp << ' ' << depth << '\n' << std::flush;
   if (!rgb_list_ || !depth_list_) throw fileError(folder_, "cannot write the recording's lists");

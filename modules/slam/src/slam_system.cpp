@@ -21,6 +21,7 @@
 #include "pf2/humans/human_tracker.h"
 #include "pf2/humans/person_appearance.h"
 #include "pf2/io/frame_streams.h"
+#include "pf2/io/image_file.h"
 #include "pf2/slam/slam_runner.h"
 
 namespace pf2 {
@@ -364,7 +365,7 @@ class SlamSystem::Pipeline {
     char name[64];
     std::snprintf(name, sizeof(name), "/%.6f.png", timestamp);
     const std::string path = masks_dir_ + name;
-    if (!cv::imwrite(path, removed)) throw fileError(path, "cannot write the mask");
+    writeImageFile(path, removed);
   }
 
   // Eq. 2-3 after tracking, so the tracker waits for nothing. Associated with this frame's pose as

@@ -13,6 +13,7 @@
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
+#include "pf2/io/image_file.h"
 #include "pf2/io/trajectory_io.h"
 #include "pf2/synth/people.h"
 #include "hash_random.h"
@@ -28,21 +29,7 @@ std::string stampText(double t) {
   return buffer;
 }
 
-void writeImage(const std::string& path, const cv::Mat& image) {
-  const std::string temporary = temporaryPathFor(path);
-  bool ok = false;
-  try {
-    ok = cv::imwrite(temporary, image);
-  } catch (const cv::Exception& e) {
-    std::remove(temporary.c_str());
-    throw fileError(path, std::string("cannot write image: ") + e.what());
-  }
-  if (!ok) {
-    std::remove(temporary.c_str());
-    throw fileError(path, "cannot write image");
-  }
-  commitTemporaryFile(temporary, path);
-}
+void writeImage(const std::string& path, const cv::Mat& image) { writeImageFile(path, image); }
 
 // Colour averaged along each pixel's image motion during the exposure; depth of pixels whose
 // motion crosses a depth edge becomes the mixed value a real sensor reports there.

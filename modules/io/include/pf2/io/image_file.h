@@ -14,4 +14,9 @@ namespace pf2 {
 // the path. Thread safe.
 cv::Mat readImageFile(const std::string& path, int flags, const std::string& what, const cv::Size& expected = {});
 
+// Writes `image` in the format of the path's extension (.png, .jpg), encoded in memory and written
+// atomically (temporary file + rename), so that a full disk gives one error naming the path, not
+// libpng's complaint, and never leaves half a file. Throws pf2::Error naming the path. Thread safe.
+void writeImageFile(const std::string& path, const cv::Mat& image);
+
 }  // namespace pf2
