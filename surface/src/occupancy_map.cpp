@@ -1,5 +1,8 @@
 #include "pf2/surface/occupancy_map.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <octomap/ColorOcTree.h>
 
 #include <cmath>
@@ -81,12 +84,40 @@ std::vector<Eigen::Vector3d> OccupancyMap::occupiedCentres() const {
 
 std::size_t OccupancyMap::memoryBytes() const { return tree_->memoryUsage(); }
 
+namespace {
+
+// OctoMap's binary writer reports "Writing N nodes to output stream... done." on stderr; a
+// program's stderr is for its progress and its one error line. Standard error is pointed at
+// /dev/null while the tree is written (only the map export writes, after the run's threads
+// stopped) and restored after, also when the writer throws.
+class QuietStderr {
+ public:
+  QuietStderr() : saved_(::dup(STDERR_FILENO)) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
+    if (null >= 0) ::close(null);
+  }
+  ~QuietStderr() {
+    if (saved_ < 0) return;
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_;
+};
+
+}  // namespace
+
 void OccupancyMap::saveBinary(const std::string& path) {
   tree_->updateInnerOccupancy();
   // The binary format holds occupancy bits only, the same for every tree type, so
   // octomap::OcTree::readBinary and octovis read it. writeBinaryConst leaves our probabilities
   // alone (writeBinary would first threshold the live tree to maximum likelihood).
   writeFileAtomically(path, [&](std::ostream& out) {
+    const QuietStderr quiet;
     if (!tree_->writeBinaryConst(out)) throw fileError(path, "OctoMap could not write the tree");
   });
 }
