@@ -89,7 +89,11 @@ void BodyTrackFitter::run() {
 BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackState& track, BodyParameters* start) const {
   BodyFitInput input;
   input.keypoints = o.keypoints;
-  if (!o.depth.empty()) input.points_c = depthPointsFromImage(o.depth, o.intrinsics);
+  if (!o.depth.empty()) {
+    cv::Mat frame_depth(o.intrinsics.height, o.intrinsics.width, CV_32F, cv::Scalar(0));
+    o.depth.copyTo(frame_depth(o.depth_area));
+    input.points_c = depthPointsFromImage(frame_depth, o.intrinsics);
+  }
   input.up_c = o.T_w_c.linear().transpose() * kUpWorld;
   if (track.has_previous && o.timestamp - track.previous_time <= options_.warm_start_gap) {
     const Eigen::Isometry3d T_now_previous = o.T_w_c.inverse() * track.T_w_c_previous;

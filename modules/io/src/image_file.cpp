@@ -2,10 +2,10 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -56,9 +56,13 @@ cv::Size checkPng(const std::string& path, const std::vector<unsigned char>& byt
 cv::Mat readImageFile(const std::string& path, int flags, const std::string& what, const cv::Size& expected) {
   std::error_code ignored;
   if (std::filesystem::is_directory(path, ignored)) throw fileError(path, "is a folder, not a " + what);
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw fileError(path, "missing or unreadable " + what);
-  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<unsigned char> bytes(static_cast<size_t>(std::max<std::streamoff>(0, in.tellg())));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()))) {
+    throw fileError(path, "missing or unreadable " + what);
+  }
   static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (bytes.size() >= 8 && std::equal(kPngSignature, kPngSignature + 8, bytes.begin())) {
     const cv::Size size = checkPng(path, bytes, what);

@@ -62,12 +62,6 @@ double usableMemoryBytes() {
   return pages > 0 && page > 0 ? 0.75 * pages * page : 8e9;
 }
 
-std::string rangeText(double lo, double hi) {
-  char text[64];
-  std::snprintf(text, sizeof(text), "[%g, %g]", lo, hi);
-  return text;
-}
-
 void detectorSettings(SlamOptions& o, Settings& s) {
   std::vector<std::string> names{"auto", "none"};
   for (const std::string& name : humanDetectorNames()) names.push_back(name);
@@ -77,31 +71,8 @@ void detectorSettings(SlamOptions& o, Settings& s) {
   s.boolean("detector.gt_masks", &o.detection.gt.provide_mask,
             "gt hands its masks to the filter like a segmenting detector; false = the paper's boxes only");
   declareBoxDegradationSettings("detector.gt_", &o.detection.gt.degradation, &s);
-  // The learned backends read their options as text (DetectorOptions::extra); these are the ones
-  // worth changing, range-checked here.
-  const auto extra = [&o, &s](const std::string& key, const std::string& option, double lo, double hi,
-                              const std::string& fallback, const std::string& meaning) {
-    s.custom(
-        key,
-        [&o, option, lo, hi](const std::string& text) {
-          size_t used = 0;
-          double value = 0;
-          try {
-            value = std::stod(text, &used);
-          } catch (const std::exception&) {
-            used = 0;
-          }
-          if (used == 0 || used != text.size()) throw Error("expected a number");
-          if (!(value >= lo && value <= hi)) throw Error("outside its range " + rangeText(lo, hi));
-          o.detection.extra[option] = text;
-        },
-        [&o, option, fallback] {
-          const auto it = o.detection.extra.find(option);
-          return it == o.detection.extra.end() ? fallback : it->second;
-        },
-        rangeText(lo, hi), meaning);
-  };
-  extra("detector.pose_every", "learned.pose_every", 1, 30, "3", "frames per MoveNet run of the learned detector");
+  s.integer("detector.pose_every", &o.learned_pose_every, 1, 30, "frames",
+            "frames per MoveNet run of the learned detector");
 }
 
 // The filter's own keys, then pf2_slam's geometric addition: the keyframes' prediction.

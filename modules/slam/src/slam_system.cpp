@@ -317,7 +317,8 @@ class SlamSystem::Pipeline {
     observation.track_id = id;
     observation.frame_index = frame_index;
     observation.timestamp = frame.timestamp;
-    observation.depth = person.fullDepth(frame.depth.size());
+    observation.depth = person.depth;  // shared, not copied: the filter's result is not changed after
+    observation.depth_area = person.area;
     observation.intrinsics = frame.intrinsics;
     observation.T_w_c = result.T_w_c;
     observation.keyframe_id = result.keyframe_id;
@@ -436,6 +437,7 @@ void SlamSystem::writeMasksTo(const std::string& dir) { pipeline().writeMasksTo(
 std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, const std::string& sequence_folder,
                                                   std::string* chosen) {
   DetectorOptions detection = options.detection;
+  detection.extra["learned.pose_every"] = std::to_string(options.learned_pose_every);
   const std::string gt_folder = sequence_folder.empty() ? "" : sequence_folder + "/gt";
   if (detection.gt.gt_folder.empty()) detection.gt.gt_folder = gt_folder;
   std::string name = options.detector;

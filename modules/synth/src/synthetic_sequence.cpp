@@ -9,7 +9,6 @@
 #include <mutex>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "pf2/core/atomic_file.h"
 #include "pf2/core/error.h"
@@ -28,8 +27,6 @@ std::string stampText(double t) {
   std::snprintf(buffer, sizeof(buffer), "%.6f", t);
   return buffer;
 }
-
-void writeImage(const std::string& path, const cv::Mat& image) { writeImageFile(path, image); }
 
 // Colour averaged along each pixel's image motion during the exposure; depth of pixels whose
 // motion crosses a depth edge becomes the mixed value a real sensor reports there.
@@ -329,9 +326,9 @@ void SyntheticSequence::writeTumFolder(const std::string& out_dir,
     frame.depth.convertTo(depth_png, CV_16U, 5000.0);
     if (pending.valid()) pending.get();
     pending = std::async(std::launch::async, [dir, stamp, rgb = frame.rgb, depth_png, labels = truth.labels]() {
-      writeImage(dir + "rgb/" + stamp + ".png", rgb);
-      writeImage(dir + "depth/" + stamp + ".png", depth_png);
-      writeImage(dir + "gt/masks/" + stamp + ".png", labels);
+      writeImageFile(dir + "rgb/" + stamp + ".png", rgb);
+      writeImageFile(dir + "depth/" + stamp + ".png", depth_png);
+      writeImageFile(dir + "gt/masks/" + stamp + ".png", labels);
     });
     rgb_list << stamp << " rgb/" << stamp << ".png\n";
     depth_list << stamp << " depth/" << stamp << ".png\n";

@@ -36,7 +36,10 @@ struct BodyObservation {
   int frame_index = 0;
   double timestamp = 0;
   std::array<BodyKeypoint, kCocoKeypointCount> keypoints;  // COCO-17, pixels
-  cv::Mat depth;               // CV_32F metres: the person's depth D_h^t (whole-frame size), may be empty
+  // CV_32F metres: the person's depth D_h^t on depth_area (the image region it covers), may be
+  // empty; the whole-frame image the fitter needs is made in the fitting thread.
+  cv::Mat depth;
+  cv::Rect depth_area;
   CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();  // as tracked now
   int keyframe_id = -1;        // the frame's keyframe and pose relative to it, for the final placement

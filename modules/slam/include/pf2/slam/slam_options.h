@@ -25,6 +25,9 @@ struct SlamOptions {
   // The gt backend hands over its person masks, as a segmenting detector (selfie, learned) does,
   // so the filter's mask addition runs; detector.gt_masks false gives the paper's boxes-only input.
   DetectorOptions detection = defaultDetectionOptions();
+  // Frames per MoveNet run of the learned detector; handed to it as detection.extra's
+  // "learned.pose_every" when the detector is made (createSlamDetector).
+  int learned_pose_every = 3;
   DualBBoxFilter::Options filter = defaultFilterOptions();
   // The filter's geometric addition (filter.geometric): depth measured more than
   // geometric_margin metres in front of the static depth predicted from the newest keyframes is
