@@ -136,7 +136,8 @@ bool Tracker::alignToKeyframe(OdometryFrame* current, const Eigen::Isometry3d& T
   // alignment out of its basin, so the last pose itself is the second start.
   for (const Eigen::Isometry3d& start : {T_k_prior, T_k_c_}) {
     result->odometry = odometry_.estimate(reference_, current, start);
-    if (result->odometry.valid && withinReach(result->odometry.T_ref_cur, T_k_prior, timestamp)) {
+    if (result->odometry.valid && consistent(result->odometry.dense) &&
+        withinReach(result->odometry.T_ref_cur, T_k_prior, timestamp)) {
       T_prev_cur_ = T_k_c_.inverse() * result->odometry.T_ref_cur;
       T_k_c_ = result->odometry.T_ref_cur;
       cleaner_.update(&reference_, *current, T_k_c_);
@@ -162,6 +163,10 @@ bool Tracker::alignToPreviousFrame(OdometryFrame* current, const Eigen::Isometry
   return true;
 }
 
+bool Tracker::consistent(const DenseAlignment& alignment) const {
+  return alignment.inlier_points >= options_.min_tracking_agreement * alignment.associated_points;
+}
+
 bool Tracker::withinReach(const Eigen::Isometry3d& T_k_c, const Eigen::Isometry3d& T_k_prior,
                           double timestamp) const {
   const double dt = std::max(0.0, timestamp - last_measured_timestamp_);
@@ -176,8 +181,10 @@ bool Tracker::withinReach(const Eigen::Isometry3d& T_k_c, const Eigen::Isometry3
 
 void Tracker::keepFrame(OdometryFrame* current, bool measured, double timestamp) {
   if (!measured) {
+    // The last measured frame stays the frame-to-frame fallback while frames are bridged: it
+    // still overlaps the view when the keyframe no longer does, and the divergence guard's
+    // reach grows with the time since it.
     ++bridged_in_row_;
-    previous_ = OdometryFrame();
     return;
   }
   bridged_in_row_ = 0;

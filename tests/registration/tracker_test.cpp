@@ -179,6 +179,35 @@ TEST(Tracker, BridgesAShortGapWithTheMotionPrior) {
   EXPECT_LT((back.T_w_c.translation() - expected(7).translation()).norm(), 0.003);
 }
 
+// While frames are bridged, the last measured frame stays the frame-to-frame fallback: the camera
+// turns on (0.16 rad a frame, no new keyframe allowed), a frame without depth is bridged, and the
+// next view, too far turned to align to the keyframe, is measured against the last measured frame
+// instead of waiting for relocalisation (switched off here).
+TEST(Tracker, AfterABridgedFrameTheLastMeasuredFrameIsStillTheFallback) {
+  Tracker::Options options = syncOptions();
+  options.max_keyframe_condition = 0;              // no frame after the first becomes a keyframe
+  options.min_relocalisation_inlier_ratio = 1.01;  // relocalisation off: by overlap ...
+  options.backend.min_local_agreement = 1.01;      // ... and by two-way agreement
+  Tracker tracker(options);
+  const CameraIntrinsics k = smallCamera();
+  auto pose = [](int i) { return test::cameraPose(0, 0, -0.5, 0, 0.16 * i, 0); };
+  auto frameAt = [&](int i) {
+    Frame frame = test::renderRoom(pose(i), k, i);
+    frame.timestamp = 0.1 * i;
+    return frame;
+  };
+  for (int i = 0; i < 4; ++i) ASSERT_EQ(tracker.track(frameAt(i)).status, TrackStatus::kOk) << "frame " << i;
+  ASSERT_EQ(tracker.keyframes().size(), 1u);
+  Frame blank = frameAt(4);
+  blank.depth.setTo(0.0f);
+  ASSERT_EQ(tracker.track(blank).status, TrackStatus::kBridged);
+
+  const TrackResult back = tracker.track(frameAt(5));
+  EXPECT_EQ(back.status, TrackStatus::kOk);
+  EXPECT_LT((back.T_w_c.translation() - (pose(0).inverse() * pose(5)).translation()).norm(), 0.005);
+  EXPECT_LT(rotationAngle((back.T_w_c.rotation().transpose() * (pose(0).inverse() * pose(5)).rotation())), 0.01);
+}
+
 // The divergence guard: an odometry pose that jumps farther than max_speed allows since the last
 // measured frame is rejected, and the frame is bridged instead of taking it. (Only relocalisation,
 // a match without any prior verified by overlap or two-way agreement, may place a frame that far;

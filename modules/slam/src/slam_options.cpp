@@ -115,6 +115,9 @@ void trackerSettings(SlamOptions& o, Settings& s) {
   odometrySettings(t.odometry, s);
   s.integer("tracker.max_bridged_frames", &t.max_bridged_frames, 0, 300, "frames",
             "frames in a row given the motion prior's pose before the camera counts as lost");
+  s.number("tracker.min_agreement", &t.min_tracking_agreement, 0.0, 1.0, "fraction",
+           "a frame's alignment to its keyframe needs this share of inliers among its associated points "
+           "(else the previous frame is tried; 0 = no check)");
   s.integer("tracker.local_edges", &t.backend.local_edges, 0, 9, "keyframes",
             "each new keyframe is also aligned onto up to this many near keyframes among the previous nine (0 = chain and loops)");
   s.number("tracker.local_radius", &t.backend.local_radius, 0.0, 10.0, "metres", "of the local window");

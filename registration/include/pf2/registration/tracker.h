@@ -102,6 +102,12 @@ class Tracker {
     // left do not constrain the pose (a synthetic 900-frame loop had a frame with 3.5 % depth
     // tracked 42 cm off).
     double min_tracking_depth_fraction = 0.05;
+    // An alignment to the keyframe is only accepted when at least this share of its associated
+    // points are inliers: a pose pulled off by what is left of people, or by a view that people
+    // crowd, fits less and less of what it associates (good alignments on the Bonn crowd frames:
+    // 0.85-0.95; the one that started the camera's loss there: 0.53), and the frame-to-frame
+    // fallback is tried instead. 0 = no check.
+    double min_tracking_agreement = 0.5;
     // Relocalisation (no motion prior to confirm the pose) needs this dense inlier ratio;
     // tracking accepts RgbdOdometry::Options::min_inlier_ratio (0.35).
     double min_relocalisation_inlier_ratio = 0.6;
@@ -151,6 +157,8 @@ class Tracker {
   bool alignToPreviousFrame(OdometryFrame* current, const Eigen::Isometry3d& T_k_prior,
                             double timestamp, TrackResult* result);
   bool relocalise(OdometryFrame* frame, TrackResult* result);
+  // Inliers per associated point at least min_tracking_agreement.
+  bool consistent(const DenseAlignment& alignment) const;
   // The divergence guard: is T_k_c reachable from the last measured pose and the prior, given
   // the time since the last measured pose?
   bool withinReach(const Eigen::Isometry3d& T_k_c, const Eigen::Isometry3d& T_k_prior,
