@@ -115,6 +115,11 @@ void trackerSettings(SlamOptions& o, Settings& s) {
   odometrySettings(t.odometry, s);
   s.integer("tracker.max_bridged_frames", &t.max_bridged_frames, 0, 300, "frames",
             "frames in a row given the motion prior's pose before the camera counts as lost");
+  s.number("trajectory.position_noise", &o.trajectory.position_noise, 0.0, 1.0, "metres",
+           "scatter of one frame's measured camera position, for the smoothing of trajectory.txt (0 = none)");
+  s.number("trajectory.acceleration_noise", &o.trajectory.acceleration_noise, 0.01, 1000.0, "m/s^2",
+           "typical acceleration of the camera, for the smoothing of trajectory.txt");
+  s.number("trajectory.max_gap", &o.trajectory.max_gap, 0.0, 60.0, "seconds", "frames further apart: smoothed apart");
   s.number("tracker.min_agreement", &t.min_tracking_agreement, 0.0, 1.0, "fraction",
            "a frame's alignment to its keyframe needs this share of inliers among its associated points "
            "(else the previous frame is tried; 0 = no check)");

@@ -193,11 +193,14 @@ class SlamSystem::Pipeline {
     result.summary.fps = result.summary.seconds > 0 ? result.summary.frames / result.summary.seconds : 0.0;
     // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
     const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker_.keyframes().poses();
+    std::vector<bool> restarts;  // a relocalised pose does not follow from the one before
     for (const FrameRecord& record : records_) {
       result.frame_status.emplace_back(record.timestamp, record.status);
-      if (record.has_pose)
-        result.trajectory.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
+      if (!record.has_pose) continue;
+      result.trajectory.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
+      restarts.push_back(record.status == TrackStatus::kRelocalised);
     }
+    result.trajectory = TrajectorySmoother(options_.trajectory).smooth(result.trajectory, restarts);
     result.has_humans = track_humans_;
     if (body_fitter_) {
       // Tracks follow the bodies' pelvis where there is a fit, the eq. 2 centre otherwise.

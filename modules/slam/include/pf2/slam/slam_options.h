@@ -11,6 +11,7 @@
 #include "pf2/humans/body_tracks.h"
 #include "pf2/humans/human_tracker.h"
 #include "pf2/registration/tracker.h"
+#include "pf2/registration/trajectory_smoother.h"
 #include "pf2/slam/keyframe_prediction.h"
 #include "pf2/slam/scene_export.h"
 #include "pf2/surface/mapper.h"
@@ -38,6 +39,9 @@ struct SlamOptions {
   double static_margin = 0.06;     // metres (plus 1 % of the depth): depth this close to the
                                    // prediction is known static (filter.keep_static)
   Tracker::Options tracker;
+  // trajectory.txt's positions smoothed over time at the end of the run (TrajectorySmoother);
+  // the map, the people and the live poses use the poses as measured.
+  TrajectorySmoother::Options trajectory;
   // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
   // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
   bool track_humans = true;

@@ -62,7 +62,7 @@ struct FrameResult {
 // A run's final result, as SlamSystem::finish() returns it; writeSlamResult() saves it.
 struct SlamResult {
   SlamRunSummary summary;
-  Trajectory trajectory;                // one pose per posed frame, loop-corrected (T_w_c)
+  Trajectory trajectory;                // one pose per posed frame, loop-corrected, smoothed (T_w_c)
   bool has_humans = false;              // a detector ran and options.track_humans is set
   std::vector<HumanTrack> humans;       // each person's pelvis (or eq. 2 centre), trajectory's world frame
   std::vector<BodyTrack> bodies;        // each person's body per frame (with bodies.fit)
@@ -115,7 +115,8 @@ class SlamSystem {
 
   // A recorded sequence, as pf2_slam runs it: the frames of `source` (decoded ahead in a loader
   // thread) through process(), then writeSlamResult() into out_dir (created if needed):
-  //   trajectory.txt  TUM format, one line per frame that has a pose, loop-corrected (T_w_c)
+  //   trajectory.txt  TUM format, one line per frame that has a pose, loop-corrected (T_w_c),
+  //                   positions smoothed (SlamOptions::trajectory)
   //   stats.json      frames, lost/bridged/relocalised counts, per-stage median/p90 ms,
   //                   end-to-end fps, each frame's tracking status
   //   map.ply, map.bt, map.ot (and map.pcd, map.obj on request) when the map is built
