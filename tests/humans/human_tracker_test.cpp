@@ -117,8 +117,9 @@ TEST(PersonAppearance, SameColoursAreSimilarOthersAreNot) {
   EXPECT_TRUE(personAppearance(cv::Mat(120, 80, CV_8UC3, cv::Scalar(0, 0, 255)), cv::Rect(0, 0, 80, 120), mask).empty());
 }
 
-// A person hidden for 3 s (longer than max_missed) comes back 1.5 m away: the same id when they
-// look the same, a new one when someone else in other colours appears there.
+// A person hidden for 3 s (longer than max_missed) comes back 1.5 m away: under a new id for the
+// first reid_after - 1 frames, then under their old one (the new id an alias of it) when they
+// look the same; a new person when someone else in other colours appears there.
 TEST(HumanTracker, ReidentifiesAPersonByAppearanceAfterALongGap) {
   const PersonAppearance red = colouredPerson({40, 40, 200}), blue = colouredPerson({200, 60, 40});
   for (const bool same_person : {true, false}) {
@@ -126,9 +127,17 @@ TEST(HumanTracker, ReidentifiesAPersonByAppearanceAfterALongGap) {
     for (int f = 0; f < 30; ++f) EXPECT_EQ(tracker.update(f / kRate, {{0.01 * f, 0, 2}}, {red}), std::vector<int>{1});
     for (int f = 30; f < 120; ++f) tracker.update(f / kRate, {});
     EXPECT_EQ(tracker.liveTracks(), 0);
-    const std::vector<int> ids = tracker.update(120 / kRate, {{1.8, 0, 2}}, {same_person ? red : blue});
+    const int after = tracker.options().reid_after;
+    ASSERT_GE(after, 2);
+    for (int f = 120; f < 120 + after - 1; ++f) {
+      EXPECT_EQ(tracker.update(f / kRate, {{1.8, 0, 2}}, {same_person ? red : blue}), std::vector<int>{2});
+    }
+    const std::vector<int> ids = tracker.update((120 + after - 1) / kRate, {{1.8, 0, 2}}, {same_person ? red : blue});
     EXPECT_EQ(ids, std::vector<int>{same_person ? 1 : 2});
+    EXPECT_EQ(tracker.resolvedId(2), same_person ? 1 : 2);
     EXPECT_EQ(tracker.liveTracks(), 1);
+    EXPECT_EQ(tracker.tracks().size(), same_person ? 1u : 2u);
+    EXPECT_EQ(tracker.tracks()[0].points.size(), same_person ? 30u + after : 30u);
   }
   // Beyond reach (farther than gate + max_speed x 3 s) or after reid_window: a new person.
   HumanTracker::Options options;
@@ -145,6 +154,39 @@ TEST(HumanTracker, ReidentifiesAPersonByAppearanceAfterALongGap) {
   paper.update(1 / kRate, {});
   EXPECT_EQ(paper.update(2 / kRate, {{0, 0, 2}}, {red}), std::vector<int>{2});
   EXPECT_THROW(paper.update(3 / kRate, {{0, 0, 2}}, {red, blue}), Error);
+}
+
+// A stray centre that lasts two frames (a person's part split off, a false detection) in the
+// colours of a lost person does not take their id; the person coming back later does, once their
+// new track has reid_after centres. The stray track is no person to come back either.
+TEST(HumanTracker, AStrayCentreDoesNotTakeALostPersonsId) {
+  const PersonAppearance red = colouredPerson({40, 40, 200});
+  HumanTracker tracker;
+  for (int f = 0; f < 30; ++f) tracker.update(f / kRate, {{0.0, 0, 2}}, {red});
+  for (int f = 30; f < 60; ++f) tracker.update(f / kRate, {});
+  for (int f = 60; f < 62; ++f) EXPECT_EQ(tracker.update(f / kRate, {{2.0, 0, 3}}, {red}), std::vector<int>{2});
+  for (int f = 62; f < 100; ++f) tracker.update(f / kRate, {});
+  std::vector<int> ids;
+  for (int f = 100; f < 100 + tracker.options().reid_after; ++f) ids = tracker.update(f / kRate, {{0.1, 0, 2}}, {red});
+  EXPECT_EQ(ids, std::vector<int>{1});
+  EXPECT_EQ(tracker.resolvedId(3), 1);
+  EXPECT_EQ(tracker.resolvedId(2), 2);
+}
+
+// Two people side by side whose measured centres jitter across each other for a frame: by
+// position alone the tracks swap them, with their appearances each keeps their own.
+TEST(HumanTracker, AppearanceKeepsTwoPeopleApartWherePositionsCross) {
+  const PersonAppearance red = colouredPerson({40, 40, 200}), blue = colouredPerson({200, 60, 40});
+  for (const double weight : {0.0, 0.5}) {
+    HumanTracker::Options options;
+    options.appearance_weight = weight;
+    HumanTracker tracker(options);
+    for (int f = 0; f < 20; ++f) {
+      ASSERT_EQ(tracker.update(f / kRate, {{0.0, 0, 2}, {0.4, 0, 2}}, {red, blue}), (std::vector<int>{1, 2}));
+    }
+    const std::vector<int> ids = tracker.update(20 / kRate, {{0.35, 0, 2}, {0.05, 0, 2}}, {red, blue});
+    EXPECT_EQ(ids, weight > 0 ? (std::vector<int>{1, 2}) : (std::vector<int>{2, 1})) << "weight " << weight;
+  }
 }
 
 TEST(HumanTracker, AssociationNames) {

@@ -14,6 +14,7 @@ void HumanTracker::reset() {
   tracks_.clear();
   appearance_.clear();
   live_.clear();
+  aliases_.clear();
   next_id_ = 1;
 }
 
@@ -53,16 +54,24 @@ std::vector<int> HumanTracker::associatePaper(const std::vector<Eigen::Vector3d>
   return live_of;
 }
 
-std::vector<int> HumanTracker::associatePredicted(double timestamp,
-                                                  const std::vector<Eigen::Vector3d>& centres_w) const {
+std::vector<int> HumanTracker::associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
+                                                  const std::vector<PersonAppearance>& appearances) const {
   // Rows: centres; columns: live tracks; cost: distance to the prediction, normalised by the
-  // track's gate so that one threshold (1) applies to tracks unseen for different times.
+  // track's gate so that one threshold (1) applies to tracks unseen for different times, plus the
+  // appearance's dissimilarity where both are known (of two people close together, each track
+  // keeps the one who looks like it).
   std::vector<std::vector<double>> cost(centres_w.size(), std::vector<double>(live_.size()));
   for (size_t l = 0; l < live_.size(); ++l) {
     const Eigen::Vector3d predicted = predict(live_[l], timestamp);
     const double unseen = timestamp - tracks_[live_[l].track].points.back().timestamp;
     const double gate = options_.gate + options_.gate_growth * std::max(0.0, unseen);
-    for (size_t c = 0; c < centres_w.size(); ++c) cost[c][l] = (centres_w[c] - predicted).norm() / gate;
+    const PersonAppearance& track_appearance = appearance_[live_[l].track];
+    for (size_t c = 0; c < centres_w.size(); ++c) {
+      cost[c][l] = (centres_w[c] - predicted).norm() / gate;
+      if (c < appearances.size() && !appearances[c].empty() && track_appearance.size() == appearances[c].size()) {
+        cost[c][l] += options_.appearance_weight * (1.0 - appearanceSimilarity(appearances[c], track_appearance));
+      }
+    }
   }
   return solveAssignment(cost, 1.0);
 }
@@ -81,22 +90,72 @@ void HumanTracker::observe(size_t track, double timestamp, const Eigen::Vector3d
   }
 }
 
-int HumanTracker::reidentify(double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance,
-                             const std::vector<bool>& taken) const {
-  if (options_.association != Association::kPredicted || options_.reid_window <= 0 || appearance.empty()) return -1;
+int HumanTracker::reidentify(size_t fresh) const {
+  if (options_.association != Association::kPredicted || options_.reid_window <= 0) return -1;
+  const PersonAppearance& appearance = appearance_[fresh];
+  if (appearance.empty()) return -1;
+  const HumanTrackPoint& first = tracks_[fresh].points.front();
   int best = -1;
   double best_similarity = options_.reid_similarity;
+  const size_t confirmed = static_cast<size_t>(std::max(1, options_.reid_after));
   for (size_t t = 0; t < tracks_.size(); ++t) {
-    if (taken[t]) continue;  // one centre per track and frame
+    // A track that never had reid_after centres was a stray one, no person to come back.
+    if (t == fresh || tracks_[t].points.size() < confirmed) continue;
     const HumanTrackPoint& last = tracks_[t].points.back();
-    const double unseen = timestamp - last.timestamp;
+    // Seen while the new track was: someone else.
+    const double unseen = first.timestamp - last.timestamp;
     if (unseen <= 0 || unseen > options_.reid_window) continue;
     // Where the person could have walked meanwhile.
-    if ((centre_w - last.p_w).norm() > options_.gate + options_.max_speed * unseen) continue;
+    if ((first.p_w - last.p_w).norm() > options_.gate + options_.max_speed * unseen) continue;
     const double similarity = appearanceSimilarity(appearance, appearance_[t]);
     if (similarity >= best_similarity) best_similarity = similarity, best = static_cast<int>(t);
   }
   return best;
+}
+
+// The new track's centres become the old track's (all of them later than the old one's last),
+// its appearance is taken in, its id becomes an alias, and the old track is the live one.
+void HumanTracker::merge(size_t fresh, size_t old) {
+  HumanTrack& track = tracks_[old];
+  const std::vector<HumanTrackPoint>& points = tracks_[fresh].points;
+  track.points.insert(track.points.end(), points.begin(), points.end());
+  PersonAppearance& mean = appearance_[old];
+  const PersonAppearance& seen = appearance_[fresh];
+  if (mean.size() == seen.size()) {
+    for (size_t i = 0; i < mean.size(); ++i) mean[i] += static_cast<float>(options_.appearance_rate) * (seen[i] - mean[i]);
+  }
+  aliases_[tracks_[fresh].id] = track.id;
+  // The old track may still be live, unseen: one live entry, the new track's, now for it.
+  live_.erase(std::remove_if(live_.begin(), live_.end(), [&](const Live& l) { return l.track == old; }), live_.end());
+  tracks_.erase(tracks_.begin() + static_cast<std::ptrdiff_t>(fresh));
+  appearance_.erase(appearance_.begin() + static_cast<std::ptrdiff_t>(fresh));
+  for (Live& l : live_) {
+    if (l.track == fresh) l.track = old;
+    else if (l.track > fresh) --l.track;
+  }
+}
+
+void HumanTracker::reidentifyNewTracks(std::vector<int>* ids) {
+  const size_t reid_after = static_cast<size_t>(std::max(1, options_.reid_after));
+  // The tracks that got their reid_after-th centre in this frame (every track does so once).
+  std::vector<int> due;
+  for (const Live& live : live_) {
+    const HumanTrack& track = tracks_[live.track];
+    if (track.points.size() == reid_after && track.points.back().timestamp == timestamp_) due.push_back(track.id);
+  }
+  for (const int fresh_id : due) {
+    const auto fresh = std::find_if(tracks_.begin(), tracks_.end(), [&](const HumanTrack& t) { return t.id == fresh_id; });
+    const int old = reidentify(static_cast<size_t>(fresh - tracks_.begin()));
+    if (old < 0) continue;
+    const int old_id = tracks_[old].id;
+    merge(static_cast<size_t>(fresh - tracks_.begin()), static_cast<size_t>(old));
+    std::replace(ids->begin(), ids->end(), fresh_id, old_id);
+  }
+}
+
+int HumanTracker::resolvedId(int id) const {
+  for (auto it = aliases_.find(id); it != aliases_.end(); it = aliases_.find(id)) id = it->second;
+  return id;
 }
 
 std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
@@ -105,44 +164,34 @@ std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen:
     throw Error("HumanTracker::update: " + std::to_string(appearances.size()) + " appearances for " +
                 std::to_string(centres_w.size()) + " centres");
   }
+  timestamp_ = timestamp;
   const auto appearance = [&](size_t c) { return appearances.empty() ? PersonAppearance() : appearances[c]; };
   const std::vector<int> live_of = options_.association == Association::kPaper
                                        ? associatePaper(centres_w)
-                                       : associatePredicted(timestamp, centres_w);
+                                       : associatePredicted(timestamp, centres_w, appearances);
   std::vector<int> ids(centres_w.size());
-  std::vector<bool> seen(live_.size(), false), taken(tracks_.size(), false);
+  std::vector<bool> seen(live_.size(), false);
   for (size_t c = 0; c < centres_w.size(); ++c) {
     if (live_of[c] < 0) continue;
     Live& live = live_[live_of[c]];
     seen[live_of[c]] = true;
-    taken[live.track] = true;
     live.missed = 0;
     observe(live.track, timestamp, centres_w[c], appearance(c));
     ids[c] = tracks_[live.track].id;
   }
   ageUnseen(seen);
+  // Other centres start new tracks (compared with the lost ones once they have reid_after centres).
   for (size_t c = 0; c < centres_w.size(); ++c) {
     if (live_of[c] >= 0) continue;
-    int track = reidentify(timestamp, centres_w[c], appearance(c), taken);
-    if (track < 0) {
-      HumanTrack fresh;
-      fresh.id = next_id_++;
-      tracks_.push_back(std::move(fresh));
-      appearance_.emplace_back();
-      taken.push_back(false);
-      track = static_cast<int>(tracks_.size()) - 1;
-    }
-    // A re-identified track is live again (it may still be among the live ones, unmatched).
-    const auto live = std::find_if(live_.begin(), live_.end(), [&](const Live& l) { return l.track == static_cast<size_t>(track); });
-    if (live == live_.end()) {
-      live_.push_back({static_cast<size_t>(track), 0});
-    } else {
-      live->missed = 0;
-    }
-    taken[track] = true;
-    observe(track, timestamp, centres_w[c], appearance(c));
-    ids[c] = tracks_[track].id;
+    HumanTrack fresh;
+    fresh.id = next_id_++;
+    tracks_.push_back(std::move(fresh));
+    appearance_.emplace_back();
+    live_.push_back({tracks_.size() - 1, 0});
+    observe(tracks_.size() - 1, timestamp, centres_w[c], appearance(c));
+    ids[c] = tracks_.back().id;
   }
+  reidentifyNewTracks(&ids);
   return ids;
 }
 

@@ -153,8 +153,12 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.number("humans.max_speed", &h.max_speed, 0.1, 20.0, "m/s", "velocity clamp");
   s.number("humans.reid_window", &h.reid_window, 0.0, 3600.0, "seconds",
            "a person unseen this long can be re-identified by appearance and position (0 = never)");
+  s.number("humans.appearance_weight", &h.appearance_weight, 0.0, 10.0, "",
+           "association cost per unit of appearance dissimilarity (0 = position only)");
   s.number("humans.reid_similarity", &h.reid_similarity, 0.0, 1.0, "",
            "colour-histogram similarity (Bhattacharyya coefficient) needed to re-identify a person");
+  s.integer("humans.reid_after", &h.reid_after, 1, 1000, "frames",
+            "a new track is compared with lost ones once it has this many centres (1 = at first sight)");
 }
 
 void bodySettings(SlamOptions& o, Settings& s) {

@@ -202,10 +202,11 @@ class SlamSystem::Pipeline {
     }
     result.trajectory = TrajectorySmoother(options_.trajectory).smooth(result.trajectory, restarts);
     result.has_humans = track_humans_;
+    relabelReidentified();
     if (body_fitter_) {
       // Tracks follow the bodies' pelvis where there is a fit, the eq. 2 centre otherwise.
       const BodyTrackAssembler assembler(*body_model_, options_.body_tracks);
-      result.bodies = assembler.assemble(personSightings(records_), body_fitter_->finish(), keyframe_poses);
+      result.bodies = assembler.assemble(personSightings(records_), relabelled(body_fitter_->finish()), keyframe_poses);
       result.body_model = body_model_;
       result.scene = options_.scene;
       result.humans = pelvisTracks(result.bodies);
@@ -248,6 +249,21 @@ class SlamSystem::Pipeline {
     removal.geometric_opening = options.geometric_opening;
     removal.static_margin = options.static_margin;
     return removal;
+  }
+
+  // A person re-identified after a few frames under a new id (HumanTracker::Options::reid_after)
+  // was reported, and offered to the body thread, under that id: the final tracks use the old one.
+  void relabelReidentified() {
+    for (FrameRecord& record : records_) {
+      for (auto& [id, p_c] : record.people_c) id = humans_.resolvedId(id);
+    }
+  }
+  std::vector<BodyTrackFit> relabelled(std::vector<BodyTrackFit> fits) const {
+    for (BodyTrackFit& fit : fits) fit.track_id = humans_.resolvedId(fit.track_id);
+    std::stable_sort(fits.begin(), fits.end(), [](const BodyTrackFit& a, const BodyTrackFit& b) {
+      return a.track_id != b.track_id ? a.track_id < b.track_id : a.frame_index < b.frame_index;
+    });
+    return fits;
   }
 
   // The Dual-BBox filter on the frame's detections: static_frame gets the static depth D_b.

@@ -16,7 +16,13 @@
 //                live track takes is first compared with the tracks lost or unmatched within the
 //                last reid_window seconds, by appearance (colour histogram) and a reachable
 //                position: the most similar one above reid_similarity takes it under its old id.
+//                The comparison waits until the new track has reid_after centres: a stray
+//                centre that lasts a frame or two (a person's part split off, a false
+//                detection) cannot take a lost person's id, and the new track's appearance is
+//                a mean over several views. A new track merged into an old one keeps its id
+//                as an alias: resolvedId() gives the old id for the frames it was reported under.
 // Other unmatched centres start new tracks; ids are 1, 2, 3, ... in order of appearance, never reused.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -43,7 +49,13 @@ class HumanTracker {
     double max_speed = 2.5;         // m/s: the velocity is clamped to this (a walking person)
     double reid_window = 10.0;      // s: a track unseen this long can still be re-identified (0 = never)
     double reid_similarity = 0.8;   // appearance similarity (Bhattacharyya coefficient) needed, 0..1
+    int reid_after = 5;             // centres a new track has before it is compared with lost
+                                    // tracks (1 = at first sight)
     double appearance_rate = 0.2;   // weight of a new view in a track's appearance (running mean)
+    // Added to the association cost (distance / gate; at most 1 matches) per unit of appearance
+    // dissimilarity (1 - similarity): of two people close together, each track keeps the one who
+    // looks like it. 0 = position only.
+    double appearance_weight = 0.5;
   };
 
   HumanTracker() : HumanTracker(Options()) {}
@@ -62,6 +74,9 @@ class HumanTracker {
   const std::vector<HumanTrack>& tracks() const { return tracks_; }
   // Number of tracks that may still take centres. NOT thread safe against update().
   int liveTracks() const { return static_cast<int>(live_.size()); }
+  // The id a track reported under `id` has now: the old id when it was re-identified as a lost
+  // track after reid_after centres, else `id`. NOT thread safe against update().
+  int resolvedId(int id) const;
 
   // Forgets all tracks; ids start again at 1. NOT thread safe.
   void reset();
@@ -75,11 +90,16 @@ class HumanTracker {
   };
   Eigen::Vector3d predict(const Live& live, double timestamp) const;
   std::vector<int> associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const;
-  std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w) const;
-  // The index into tracks_ of the track to re-identify a centre as, or -1. `taken`: tracks_
-  // indices given a centre this frame.
-  int reidentify(double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance,
-                 const std::vector<bool>& taken) const;
+  std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
+                                      const std::vector<PersonAppearance>& appearances) const;
+  // The index into tracks_ of the lost track the new track `fresh` is, or -1: one that had
+  // reid_after centres, lost before `fresh` began, within reid_window and reach of its first
+  // centre, the most similar above reid_similarity.
+  int reidentify(size_t fresh) const;
+  // Re-identifies the live tracks that have just reached reid_after centres (merging each into
+  // the lost track it is); `ids` (this frame's, per centre) follow the merge.
+  void reidentifyNewTracks(std::vector<int>* ids);
+  void merge(size_t fresh, size_t old);
   void ageUnseen(const std::vector<bool>& seen);
   void observe(size_t track, double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance);
 
@@ -87,6 +107,8 @@ class HumanTracker {
   std::vector<HumanTrack> tracks_;
   std::vector<PersonAppearance> appearance_;  // per track, running mean of its views
   std::vector<Live> live_;
+  std::map<int, int> aliases_;  // id of a merged new track -> the id it was merged into
+  double timestamp_ = 0.0;      // of the frame update() is at
   int next_id_ = 1;
 };
 
