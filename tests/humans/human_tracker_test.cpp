@@ -86,15 +86,17 @@ TEST(HumanTracker, MissedFramesKeepTheIdWithinMaxMissed) {
 
 TEST(HumanTracker, GateStartsNewTracksForFarCentres) {
   HumanTracker tracker;
-  EXPECT_EQ(tracker.update(0.0, {{0, 0, 1}}), std::vector<int>{1});
+  const int n = tracker.options().reid_after;  // centres that make a track a person
+  for (int f = 0; f < n; ++f) EXPECT_EQ(tracker.update(f / kRate, {{0, 0, 1}}), std::vector<int>{1});
   // 2 m away one frame later: beyond the 1 m (+ 1 m/s x 1/30 s) gate, so a new person.
-  EXPECT_EQ(tracker.update(1 / kRate, {{2, 0, 1}}), std::vector<int>{2});
+  EXPECT_EQ(tracker.update(n / kRate, {{2, 0, 1}}), std::vector<int>{2});
   // The first is still alive and takes a centre near it again; the second too.
-  EXPECT_EQ(tracker.update(2 / kRate, {{2.05, 0, 1}, {0.1, 0, 1}}), (std::vector<int>{2, 1}));
-  EXPECT_EQ(tracker.update(3 / kRate, {}), std::vector<int>{});
-  EXPECT_EQ(tracker.liveTracks(), 2);
+  EXPECT_EQ(tracker.update((n + 1) / kRate, {{2.05, 0, 1}, {0.1, 0, 1}}), (std::vector<int>{2, 1}));
+  // Nobody for a frame: the person stays live, the new track (two centres, not yet a person) ends.
+  EXPECT_EQ(tracker.update((n + 2) / kRate, {}), std::vector<int>{});
+  EXPECT_EQ(tracker.liveTracks(), 1);
   tracker.reset();
-  EXPECT_EQ(tracker.update(4 / kRate, {{0, 0, 1}}), std::vector<int>{1});
+  EXPECT_EQ(tracker.update((n + 3) / kRate, {{0, 0, 1}}), std::vector<int>{1});
 }
 
 // An image of two people, one in red, one in blue, for their appearances.

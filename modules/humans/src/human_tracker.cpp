@@ -199,10 +199,14 @@ std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen:
 // keeps none unseen).
 void HumanTracker::ageUnseen(const std::vector<bool>& seen) {
   const int max_missed = options_.association == Association::kPaper ? 0 : options_.max_missed;
+  // A track with fewer than reid_after centres is not yet a person (a centre split off another's,
+  // a false detection): it ends at its first missed frame instead of taking a centre later.
+  const size_t confirmed = static_cast<size_t>(std::max(1, options_.reid_after));
   std::vector<Live> kept;
   for (size_t l = 0; l < live_.size(); ++l) {
     if (!seen[l]) ++live_[l].missed;
-    if (live_[l].missed <= max_missed) kept.push_back(live_[l]);
+    const int allowed = tracks_[live_[l].track].points.size() < confirmed ? 0 : max_missed;
+    if (live_[l].missed <= allowed) kept.push_back(live_[l]);
   }
   live_ = std::move(kept);
 }

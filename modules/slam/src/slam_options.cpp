@@ -158,7 +158,8 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.number("humans.reid_similarity", &h.reid_similarity, 0.0, 1.0, "",
            "colour-histogram similarity (Bhattacharyya coefficient) needed to re-identify a person");
   s.integer("humans.reid_after", &h.reid_after, 1, 1000, "frames",
-            "a new track is compared with lost ones once it has this many centres (1 = at first sight)");
+            "a new track is compared with lost ones once it has this many centres, and ends when missed before "
+            "(1 = at first sight)");
 }
 
 void bodySettings(SlamOptions& o, Settings& s) {

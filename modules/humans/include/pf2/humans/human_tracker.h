@@ -21,6 +21,9 @@
 //                detection) cannot take a lost person's id, and the new track's appearance is
 //                a mean over several views. A new track merged into an old one keeps its id
 //                as an alias: resolvedId() gives the old id for the frames it was reported under.
+//                A track with fewer than reid_after centres ends at its first missed frame (as
+//                SORT's tentative tracks): a split-off centre's track must not live on to take
+//                a person's centre later.
 // Other unmatched centres start new tracks; ids are 1, 2, 3, ... in order of appearance, never reused.
 #include <map>
 #include <string>
@@ -50,7 +53,7 @@ class HumanTracker {
     double reid_window = 10.0;      // s: a track unseen this long can still be re-identified (0 = never)
     double reid_similarity = 0.8;   // appearance similarity (Bhattacharyya coefficient) needed, 0..1
     int reid_after = 5;             // centres a new track has before it is compared with lost
-                                    // tracks (1 = at first sight)
+                                    // tracks (1 = at first sight); fewer: it ends when missed
     double appearance_rate = 0.2;   // weight of a new view in a track's appearance (running mean)
     // Added to the association cost (distance / gate; at most 1 matches) per unit of appearance
     // dissimilarity (1 - similarity): of two people close together, each track keeps the one who
