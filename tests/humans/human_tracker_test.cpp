@@ -191,6 +191,19 @@ TEST(HumanTracker, AppearanceKeepsTwoPeopleApartWherePositionsCross) {
   }
 }
 
+// A walking person's centre jumps 25 cm for two frames (a second person entering the view beside
+// them, their boxes merged), then both are seen apart: the prediction, a line fitted to the last
+// half second, stays with the walker (from the last centre and the velocity to the oldest one in
+// the window it would lie next to the newcomer, who would take the walker's id).
+TEST(HumanTracker, AJumpOfTwoFramesDoesNotCarryThePredictionAway) {
+  HumanTracker tracker;
+  for (int f = 0; f < 17; ++f) {
+    const double jump = f >= 15 ? 0.25 : 0.0;
+    ASSERT_EQ(tracker.update(f / kRate, {{0.02 * f + jump, 0, 2}}), std::vector<int>{1});
+  }
+  EXPECT_EQ(tracker.update(17 / kRate, {{0.65, 0, 2}, {0.34, 0, 2}}), (std::vector<int>{2, 1}));
+}
+
 TEST(HumanTracker, AssociationNames) {
   EXPECT_EQ(humanAssociationFromName("paper"), HumanTracker::Association::kPaper);
   EXPECT_EQ(humanAssociationFromName("predicted"), HumanTracker::Association::kPredicted);

@@ -21,18 +21,28 @@ void HumanTracker::reset() {
 Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp) const {
   const std::vector<HumanTrackPoint>& points = tracks_[live.track].points;
   const HumanTrackPoint& last = points.back();
-  // Velocity from the oldest point inside the window to the newest: one long baseline instead of
-  // frame-to-frame differences, which box jitter makes noisy.
-  const HumanTrackPoint* oldest = &last;
+  // A straight line fitted (least squares) to the centres of the last velocity_window seconds,
+  // extrapolated: a centre that jumps for a frame or two (a person entering the view beside this
+  // one, their boxes merging) moves the line by its share of the window, not the whole prediction,
+  // and box jitter averages out.
+  double sum_t = 0.0, sum_tt = 0.0;
+  Eigen::Vector3d sum_p = Eigen::Vector3d::Zero(), sum_tp = Eigen::Vector3d::Zero();
+  int n = 0;
   for (auto it = points.rbegin(); it != points.rend() && last.timestamp - it->timestamp <= options_.velocity_window; ++it) {
-    oldest = &*it;
+    const double t = it->timestamp - last.timestamp;  // <= 0: well conditioned
+    sum_t += t;
+    sum_tt += t * t;
+    sum_p += it->p_w;
+    sum_tp += t * it->p_w;
+    ++n;
   }
-  const double span = last.timestamp - oldest->timestamp;
-  if (span <= 0.0) return last.p_w;
-  Eigen::Vector3d velocity = (last.p_w - oldest->p_w) / span;
+  const double variance = sum_tt - sum_t * sum_t / n;
+  if (n < 2 || variance <= 1e-9) return last.p_w;
+  Eigen::Vector3d velocity = (sum_tp - sum_t * sum_p / n) / variance;
   const double speed = velocity.norm();
   if (speed > options_.max_speed) velocity *= options_.max_speed / speed;
-  return last.p_w + velocity * (timestamp - last.timestamp);
+  const Eigen::Vector3d at_last = (sum_p - velocity * sum_t) / n;  // the line at the last centre's time
+  return at_last + velocity * (timestamp - last.timestamp);
 }
 
 std::vector<int> HumanTracker::associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const {

@@ -9,7 +9,7 @@
 //                single frame comes back under a new id, and two people passing close to each
 //                other swap ids when each is nearer to where the other was.
 //   kPredicted — ours: each track predicts where its person is now from a constant velocity
-//                (measured over the last velocity_window seconds of the track); centres and
+//                (a line fitted to its centres of the last velocity_window seconds); centres and
 //                tracks are matched by minimum total distance (Hungarian) within a gate that
 //                widens the longer a track has been unseen; tracks survive max_missed frames
 //                without a centre, so a person hidden for a moment keeps their id; a centre no
