@@ -327,6 +327,15 @@ class Test:
             self.place(os.path.join(dst, r), content)
         return dst
 
+    def add_file_cases(self, kind, mutants, file_name, argv):
+        """One case per sampled (name, content) mutant: the content written as file_name in the case's
+        folder, the app run with argv(case folder, file path)."""
+        for i, (name, content) in enumerate(self.sample(kind, mutants)):
+            d = self.case_dir(kind, i)
+            path = os.path.join(d, file_name)
+            self.place(path, content)
+            self.add(kind, file_name + ":" + name, argv(d, path), [file_name])
+
     def case_dir(self, kind, index):
         d = os.path.join(self.work, kind, "%02d" % index)
         os.makedirs(d, exist_ok=True)
@@ -585,12 +594,8 @@ class Test:
             ("key-without-value", sub(SLAM_CONFIG, b"map.fuse_every 5", b"map.fuse_every")),
             ("binary-zero-bytes", sub(SLAM_CONFIG, b"0.03", b"0\x00\x003")),
         ]
-        for i, (name, content) in enumerate(self.sample(kind, mutants)):
-            d = self.case_dir(kind, i)
-            path = os.path.join(d, "slam.cfg")
-            self.place(path, content)
-            self.add(kind, "slam.cfg:" + name, self.slam_argv(self.seq, os.path.join(d, "out")) + ["--config", path],
-                     ["slam.cfg"])
+        self.add_file_cases(kind, mutants, "slam.cfg",
+                            lambda d, path: self.slam_argv(self.seq, os.path.join(d, "out")) + ["--config", path])
 
     def kind_camera(self):
         kind, rng = "camera", self.rng("camera")
@@ -679,12 +684,9 @@ class Test:
             ("unknown-joint", sub(POSE_FILE, b"left_elbow", b"left_elbo")),
             ("three-numbers-missing", sub(POSE_FILE, b"left_knee 0.6 0 0", b"left_knee")),
         ]
-        for i, (name, content) in enumerate(self.sample(kind, mutants)):
-            d = self.case_dir(kind, i)
-            path = os.path.join(d, "pose.txt")
-            self.place(path, content)
-            self.add(kind, "pose.txt:" + name, [self.a.body, "mesh", os.path.join(d, "out.ply"), "--model", self.model,
-                                                "--pose-file", path], ["pose.txt"])
+        self.add_file_cases(kind, mutants, "pose.txt",
+                            lambda d, path: [self.a.body, "mesh", os.path.join(d, "out.ply"), "--model", self.model,
+                                             "--pose-file", path])
 
     def kind_boxes(self):
         kind, rng = "boxes", self.rng("boxes")

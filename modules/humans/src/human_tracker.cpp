@@ -107,10 +107,9 @@ int HumanTracker::reidentify(size_t fresh) const {
   const HumanTrackPoint& first = tracks_[fresh].points.front();
   int best = -1;
   double best_similarity = options_.reid_similarity;
-  const size_t confirmed = static_cast<size_t>(std::max(1, options_.reid_after));
   for (size_t t = 0; t < tracks_.size(); ++t) {
     // A track that never had reid_after centres was a stray one, no person to come back.
-    if (t == fresh || tracks_[t].points.size() < confirmed) continue;
+    if (t == fresh || !confirmed(t)) continue;
     const HumanTrackPoint& last = tracks_[t].points.back();
     // Seen while the new track was: someone else.
     const double unseen = first.timestamp - last.timestamp;
@@ -145,23 +144,30 @@ void HumanTracker::merge(size_t fresh, size_t old) {
   }
 }
 
-void HumanTracker::reidentifyNewTracks(std::vector<int>* ids) {
-  const size_t reid_after = static_cast<size_t>(std::max(1, options_.reid_after));
+void HumanTracker::reidentifyNewTracks(double timestamp, std::vector<int>* ids) {
   // The tracks that got their reid_after-th centre in this frame (every track does so once).
   std::vector<int> due;
   for (const Live& live : live_) {
     const HumanTrack& track = tracks_[live.track];
-    if (track.points.size() == reid_after && track.points.back().timestamp == timestamp_) due.push_back(track.id);
+    if (track.points.size() == confirmedCentres() && track.points.back().timestamp == timestamp) {
+      due.push_back(track.id);
+    }
   }
   for (const int fresh_id : due) {
-    const auto fresh = std::find_if(tracks_.begin(), tracks_.end(), [&](const HumanTrack& t) { return t.id == fresh_id; });
-    const int old = reidentify(static_cast<size_t>(fresh - tracks_.begin()));
+    const size_t fresh = static_cast<size_t>(
+        std::find_if(tracks_.begin(), tracks_.end(), [&](const HumanTrack& t) { return t.id == fresh_id; }) -
+        tracks_.begin());
+    const int old = reidentify(fresh);
     if (old < 0) continue;
     const int old_id = tracks_[old].id;
-    merge(static_cast<size_t>(fresh - tracks_.begin()), static_cast<size_t>(old));
+    merge(fresh, static_cast<size_t>(old));
     std::replace(ids->begin(), ids->end(), fresh_id, old_id);
   }
 }
+
+size_t HumanTracker::confirmedCentres() const { return static_cast<size_t>(std::max(1, options_.reid_after)); }
+
+bool HumanTracker::confirmed(size_t track) const { return tracks_[track].points.size() >= confirmedCentres(); }
 
 int HumanTracker::resolvedId(int id) const {
   for (auto it = aliases_.find(id); it != aliases_.end(); it = aliases_.find(id)) id = it->second;
@@ -174,7 +180,6 @@ std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen:
     throw Error("HumanTracker::update: " + std::to_string(appearances.size()) + " appearances for " +
                 std::to_string(centres_w.size()) + " centres");
   }
-  timestamp_ = timestamp;
   const auto appearance = [&](size_t c) { return appearances.empty() ? PersonAppearance() : appearances[c]; };
   const std::vector<int> live_of = options_.association == Association::kPaper
                                        ? associatePaper(centres_w)
@@ -201,7 +206,7 @@ std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen:
     observe(tracks_.size() - 1, timestamp, centres_w[c], appearance(c));
     ids[c] = tracks_.back().id;
   }
-  reidentifyNewTracks(&ids);
+  reidentifyNewTracks(timestamp, &ids);
   return ids;
 }
 
@@ -211,11 +216,10 @@ void HumanTracker::ageUnseen(const std::vector<bool>& seen) {
   const int max_missed = options_.association == Association::kPaper ? 0 : options_.max_missed;
   // A track with fewer than reid_after centres is not yet a person (a centre split off another's,
   // a false detection): it ends at its first missed frame instead of taking a centre later.
-  const size_t confirmed = static_cast<size_t>(std::max(1, options_.reid_after));
   std::vector<Live> kept;
   for (size_t l = 0; l < live_.size(); ++l) {
     if (!seen[l]) ++live_[l].missed;
-    const int allowed = tracks_[live_[l].track].points.size() < confirmed ? 0 : max_missed;
+    const int allowed = confirmed(live_[l].track) ? max_missed : 0;
     if (live_[l].missed <= allowed) kept.push_back(live_[l]);
   }
   live_ = std::move(kept);

@@ -99,9 +99,13 @@ class HumanTracker {
   // reid_after centres, lost before `fresh` began, within reid_window and reach of its first
   // centre, the most similar above reid_similarity.
   int reidentify(size_t fresh) const;
-  // Re-identifies the live tracks that have just reached reid_after centres (merging each into
-  // the lost track it is); `ids` (this frame's, per centre) follow the merge.
-  void reidentifyNewTracks(std::vector<int>* ids);
+  // Re-identifies the live tracks that have just reached reid_after centres at `timestamp`
+  // (merging each into the lost track it is); `ids` (this frame's, per centre) follow the merge.
+  void reidentifyNewTracks(double timestamp, std::vector<int>* ids);
+  // reid_after as a count (at least 1), and whether tracks_[track] has that many centres (a person,
+  // not a stray centre's track).
+  size_t confirmedCentres() const;
+  bool confirmed(size_t track) const;
   void merge(size_t fresh, size_t old);
   void ageUnseen(const std::vector<bool>& seen);
   void observe(size_t track, double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance);
@@ -111,7 +115,6 @@ class HumanTracker {
   std::vector<PersonAppearance> appearance_;  // per track, running mean of its views
   std::vector<Live> live_;
   std::map<int, int> aliases_;  // id of a merged new track -> the id it was merged into
-  double timestamp_ = 0.0;      // of the frame update() is at
   int next_id_ = 1;
 };
 
