@@ -209,7 +209,7 @@ bool PoseGraphBackend::acceptable(const DenseAlignment& a, double min_inlier_rat
   const RgbdOdometry::Options& o = verifier_.options();
   return a.T_ref_cur.matrix().allFinite() && a.inlier_points >= o.min_inliers &&
          a.hessian_condition <= o.max_condition &&
-         a.inlier_points >= options_.min_local_agreement * a.associated_points;
+         a.agreement() >= options_.min_local_agreement;
 }
 
 std::optional<Eigen::Isometry3d> PoseGraphBackend::verified(const OdometryFrame& old,

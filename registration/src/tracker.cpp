@@ -164,7 +164,7 @@ bool Tracker::alignToPreviousFrame(OdometryFrame* current, const Eigen::Isometry
 }
 
 bool Tracker::consistent(const DenseAlignment& alignment) const {
-  return alignment.inlier_points >= options_.min_tracking_agreement * alignment.associated_points;
+  return alignment.agreement() >= options_.min_tracking_agreement;
 }
 
 bool Tracker::withinReach(const Eigen::Isometry3d& T_k_c, const Eigen::Isometry3d& T_k_prior,

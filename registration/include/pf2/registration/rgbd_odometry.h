@@ -36,6 +36,9 @@ struct DenseAlignment {
   double photometric_rmse = 0.0; // intensity [0,1] over the inliers
   double hessian_condition = 0.0;  // largest / smallest eigenvalue of the final 6x6 normal matrix
   int iterations = 0;            // Gauss-Newton iterations over all levels
+  // Inliers per associated point: how well what the alignment associates fits (consistency, not
+  // overlap); 0 when nothing was associated.
+  double agreement() const { return associated_points > 0 ? double(inlier_points) / associated_points : 0.0; }
 };
 
 struct OdometryResult {
