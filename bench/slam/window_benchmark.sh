@@ -31,6 +31,10 @@ window() {
   echo "$dir"
 }
 
+# median / largest of the ATE values given as arguments (metres), in centimetres.
+median_cm() { printf '%s\n' "$@" | sort -g | awk '{a[NR] = $1} END {print 100 * a[int((NR + 1) / 2)]}'; }
+largest_cm() { printf '%s\n' "$@" | sort -g | tail -n 1 | awk '{print 100 * $1}'; }
+
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); $repeats runs per window, learned detector"
 echo
 echo "| frames | ATE RMSE median (cm) | ATE RMSE largest (cm) | fewest frames posed |"
@@ -49,10 +53,7 @@ for spec in $windows; do
     if [ -z "$fewest" ] || [ "${posed%/*}" -lt "${fewest%/*}" ]; then fewest="$posed"; fi
   done
   all+=("${ates[@]}")
-  printf '| %s-%s | %.2f | %.2f | %s |\n' "$first" "$((end - 1))" \
-    "$(printf '%s\n' "${ates[@]}" | sort -g | awk '{a[NR] = $1} END {print 100 * a[int((NR + 1) / 2)]}')" \
-    "$(printf '%s\n' "${ates[@]}" | sort -g | tail -n 1 | awk '{print 100 * $1}')" "$fewest"
+  printf '| %s-%s | %.2f | %.2f | %s |\n' "$first" "$((end - 1))" "$(median_cm "${ates[@]}")" \
+    "$(largest_cm "${ates[@]}")" "$fewest"
 done
-printf '| all windows | %.2f | %.2f | |\n' \
-  "$(printf '%s\n' "${all[@]}" | sort -g | awk '{a[NR] = $1} END {print 100 * a[int((NR + 1) / 2)]}')" \
-  "$(printf '%s\n' "${all[@]}" | sort -g | tail -n 1 | awk '{print 100 * $1}')"
+printf '| all windows | %.2f | %.2f | |\n' "$(median_cm "${all[@]}")" "$(largest_cm "${all[@]}")"
