@@ -96,8 +96,9 @@ TEST(BodyTrackAssembler, PlacesAFitByEq4WithTheFinalKeyframePose) {
 }
 
 // Between two fits the pelvis moves linearly and the joints rotate halfway (slerp); before the
-// first fit (within max_gap) the body is the fit's, moved with the eq. 2 centre; far from any fit
-// a standing body stands at the centre.
+// first fit and after the last the body is the nearest fit's, moved with the eq. 2 centre, however
+// far that fit is (the centre alone lies on the visible side of the body: a seated person's
+// centre is a quarter metre above the pelvis).
 TEST(BodyTrackAssembler, InterpolatesBetweenFitsAndPlacesTheRest) {
   BodyParameters a = personInCamera(), b = personInCamera();
   b.pose[1] = Eigen::Vector3d(0.2, 0, 0);
@@ -120,13 +121,29 @@ TEST(BodyTrackAssembler, InterpolatesBetweenFitsAndPlacesTheRest) {
   EXPECT_NEAR(frames[3].body_w.pose[1].x(), -0.1, 1e-9);
   // Frame 3, 0.1 s before the first fit: that fit's body, moved by the centre's motion (-1 cm).
   EXPECT_LT((frames[1].pelvis_w - (frames[2].pelvis_w + Eigen::Vector3d(-0.01, 0, 0))).norm(), 1e-9);
-  // Frame 80, 7.4 s after the last fit: a standing body with its pelvis at the eq. 2 centre,
-  // facing the camera as eq. 4's human frame does.
-  EXPECT_LT((frames[5].pelvis_w - (centre + Eigen::Vector3d(0.8, 0, 0))).norm(), 1e-9);
-  const Eigen::Matrix3d R_x180 = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  EXPECT_LT((frames[5].T_w_h.linear() - R_x180).norm(), 1e-9);
+  // Frame 80, 7.4 s after the last fit: still that fit's body, moved by the centre's motion (+74 cm).
+  EXPECT_LT((frames[5].pelvis_w - (frames[4].pelvis_w + Eigen::Vector3d(0.74, 0, 0))).norm(), 1e-9);
+  EXPECT_NEAR(frames[5].body_w.pose[1].x(), 0.2, 1e-9);
   // One shape for the whole track: the mean of its fits.
   for (const BodyTrackFrame& f : frames) EXPECT_LT((f.body_w.shape - a.shape).norm(), 1e-12);
+}
+
+// A person never fitted (keypoints too few in every frame): a standing body with its pelvis at the
+// eq. 2 centre, facing the camera as eq. 4's human frame does.
+TEST(BodyTrackAssembler, APersonWithoutFitsStandsAtTheCentre) {
+  const Eigen::Vector3d centre(0.2, 0.1, 2.4);
+  const BodyTrackAssembler assembler(model(), noSmoothing());
+  const std::vector<BodyTrack> tracks =
+      assembler.assemble({sightingAt(0, 0.0, centre), sightingAt(1, 0.1, centre)}, {},
+                         {{0, Eigen::Isometry3d::Identity()}});
+  ASSERT_EQ(tracks.size(), 1u);
+  ASSERT_EQ(tracks[0].frames.size(), 2u);
+  for (const BodyTrackFrame& frame : tracks[0].frames) {
+    EXPECT_FALSE(frame.fitted);
+    EXPECT_LT((frame.pelvis_w - centre).norm(), 1e-9);
+    const Eigen::Matrix3d R_x180 = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    EXPECT_LT((frame.T_w_h.linear() - R_x180).norm(), 1e-9);
+  }
 }
 
 // A fit far off where the track's other fits lie (relative to the eq. 2 centre) is dropped.

@@ -5,9 +5,10 @@
 //   - a frame with a fit: the fit placed in the world by eq. 4, T_w_h = T_w_c T_c_h;
 //   - a frame between two fits at most max_gap apart: their poses interpolated (rotations
 //     slerped joint by joint, the pelvis moved linearly);
-//   - a frame near one fit only: that fit's pose at the person's eq. 2 centre, shifted by the
-//     offset between that fit's pelvis and its own frame's centre;
-//   - a frame with no fit in reach: a standing body (arms down) placed by eq. 4 at the eq. 2 centre.
+//   - any other frame: the nearest fit's pose at the person's eq. 2 centre, shifted by the offset
+//     between that fit's pelvis and its own frame's centre (the centre lies on the side of the
+//     body the camera sees, and high on a seated person: it is no pelvis by itself);
+//   - a person with no fit at all: a standing body (arms down) placed by eq. 4 at the eq. 2 centre.
 // A fit far from where the track's other fits lie relative to their eq. 2 centres is dropped first
 // (max_offset_deviation). Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
 // then smoothed over time (Gaussian, smoothing_sigma) and each body moved with its pelvis.
