@@ -164,7 +164,7 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
       body = bodies[next];
     } else if (before + after <= options_.max_gap) {
       body = interpolateBodies(bodies[next - 1], bodies[next], before / (before + after));
-    } else if (!fitted.empty()) {
+    } else if (!fitted.empty()) {  // the nearest fit's pose, moved with the eq. 2 centre
       const size_t nearest = before <= after ? next - 1 : next;
       body = bodies[nearest];
       placePelvis(centre_w(*s) + offsets[nearest], rest_pelvis, &body);
