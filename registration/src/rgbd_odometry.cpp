@@ -5,6 +5,7 @@
 #include <cmath>
 #include <mutex>
 #include <numeric>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/calib3d.hpp>
@@ -279,13 +280,11 @@ Accumulator accumulate(const RgbdOdometry::Options& options, const OdometryLevel
   const Eigen::Matrix3f R = T.rotation().cast<float>();
   const Eigen::Vector3f tr = T.translation().cast<float>();
   const int n = static_cast<int>(samples.points.size());
-  Accumulator total;
-  std::mutex mutex;
-  cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
+  const auto sumRange = [&](int begin, int end) {
     Accumulator acc;
     StripeSums sums;
     Eigen::Matrix<float, 6, 1> J;
-    for (int i = range.start; i < range.end; ++i) {
+    for (int i = begin; i < end; ++i) {
       const Eigen::Vector3f q = R * samples.points[i] + tr;
       if (q.z() < options.min_depth) continue;
       const float inv_z = 1.0f / q.z();
@@ -327,9 +326,18 @@ Accumulator accumulate(const RgbdOdometry::Options& options, const OdometryLevel
     }
     acc.H = sums.H.cast<double>();
     acc.b = sums.b.cast<double>();
-    std::lock_guard<std::mutex> lock(mutex);
-    total.add(acc);
-  }, std::max(1, n / 2000));
+    return acc;
+  };
+  // Fixed chunks, summed in their order: the sums do not depend on which thread ran which chunk,
+  // so a run repeats exactly (map.synchronous with a synchronous back end).
+  constexpr int kChunk = 2000;
+  const int chunks = std::max(1, (n + kChunk - 1) / kChunk);
+  std::vector<Accumulator> parts(chunks);
+  cv::parallel_for_(cv::Range(0, chunks), [&](const cv::Range& range) {
+    for (int c = range.start; c < range.end; ++c) parts[c] = sumRange(c * kChunk, std::min(n, (c + 1) * kChunk));
+  }, chunks);
+  Accumulator total;
+  for (const Accumulator& part : parts) total.add(part);
   return total;
 }
 

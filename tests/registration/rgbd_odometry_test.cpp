@@ -3,7 +3,9 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <atomic>
 #include <random>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -47,6 +49,29 @@ TEST_F(RenderedPair, DenseRecoversKnownMotion) {
   EXPECT_LT(rotationErrorDeg(result.T_ref_cur, T_ref_cur_true), 0.05);
   EXPECT_GT(result.inlier_ratio, 0.8);
   EXPECT_LT(result.geometric_rmse, 0.002);
+}
+
+// The normal equations are summed over the samples in parallel (OpenCV's thread pool, which the
+// pipeline's other threads use at the same time): the result must not depend on which thread
+// summed which part, so a run with a synchronous back end and map repeats to the byte. Two
+// callers at once make the pool split the work differently from call to call.
+TEST_F(RenderedPair, DenseResultIsTheSameOnEveryCall) {
+  RgbdOdometry odometry;
+  OdometryFrame a = odometry.prepare(ref), b = odometry.prepare(cur);
+  odometry.makeReference(&a);
+  const DenseAlignment first = odometry.refine(a, b, Eigen::Isometry3d::Identity());
+  ASSERT_GT(first.sampled_points, 4000);  // several parts to sum, at the finest level at least
+  std::atomic<int> differing{0};
+  const auto repeat = [&] {
+    for (int call = 0; call < 40; ++call) {
+      const DenseAlignment again = odometry.refine(a, b, Eigen::Isometry3d::Identity());
+      if (!(again.T_ref_cur.matrix() == first.T_ref_cur.matrix())) ++differing;
+    }
+  };
+  std::thread other(repeat);
+  repeat();
+  other.join();
+  EXPECT_EQ(differing.load(), 0);
 }
 
 TEST_F(RenderedPair, SparseRansacGivesCoarsePoseAndEstimateRefinesIt) {
