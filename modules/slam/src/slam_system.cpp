@@ -16,6 +16,7 @@
 #include "pf2/humans/person_appearance.h"
 #include "pf2/io/frame_streams.h"
 #include "pf2/io/image_file.h"
+#include "pf2/slam/motion_guess.h"
 #include "pf2/slam/slam_runner.h"
 #include "mapping_thread.h"
 
@@ -270,13 +271,13 @@ class SlamSystem::Pipeline {
   void removePeople(const Frame& frame, const Detections& detections, DualBBoxFilter::Result* filtered,
                     Frame* static_frame) {
     // Constant-velocity guess of this frame's motion, for the temporal guard.
-    const Eigen::Isometry3d T_cur_prev =
-        poses_in_row_ >= 2 ? T_w_prev_.inverse() * T_w_prevprev_ : Eigen::Isometry3d::Identity();
+    const KeyframeMap& keyframes = tracker_.keyframes();
+    const Eigen::Isometry3d T_cur_prev = guess_.motion(keyframes);
     // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
     cv::Mat prediction;
-    if (options_.filter.geometric && poses_in_row_ >= 1) {
+    if (options_.filter.geometric && guess_.known()) {
       ScopedStageTimer timer(stats_, "predict");
-      prediction = prediction_.predict(tracker_.keyframes(), T_w_prev_ * T_cur_prev.inverse(), frame.intrinsics);
+      prediction = prediction_.predict(keyframes, guess_.lastPose(keyframes) * T_cur_prev.inverse(), frame.intrinsics);
     }
     *filtered = removal_->filter(frame, detections, T_cur_prev, prediction, stats_);
     static_frame->depth = filtered->static_depth;
@@ -364,12 +365,10 @@ class SlamSystem::Pipeline {
     SlamRunSummary* summary = &summary_;
     if (record->has_pose) {
       record->T_k_c = result.T_k_c;
-      T_w_prevprev_ = T_w_prev_;
-      T_w_prev_ = result.T_w_c;
-      ++poses_in_row_;
+      guess_.posed(result.keyframe_id, result.T_k_c);
       ++summary->tracked;
     } else {
-      poses_in_row_ = 0;
+      guess_.lost();
       ++summary->lost;
     }
     if (result.status == TrackStatus::kRelocalised) ++summary->relocalised;
@@ -401,8 +400,7 @@ class SlamSystem::Pipeline {
   std::chrono::steady_clock::time_point first_frame_, last_frame_end_;
   std::unique_ptr<MappingThread> mapping_;  // declared after what it uses: stopped first
   std::vector<FrameRecord> records_;
-  Eigen::Isometry3d T_w_prev_ = Eigen::Isometry3d::Identity(), T_w_prevprev_ = Eigen::Isometry3d::Identity();
-  int poses_in_row_ = 0;
+  MotionGuess guess_;  // where the next frame is expected, for the filter
 };
 
 
