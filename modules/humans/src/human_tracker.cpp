@@ -95,9 +95,11 @@ void HumanTracker::observe(size_t track, double timestamp, const Eigen::Vector3d
     mean = appearance;
     return;
   }
-  for (size_t i = 0; i < mean.size(); ++i) {
-    mean[i] += static_cast<float>(options_.appearance_rate) * (appearance[i] - mean[i]);
-  }
+  blendAppearance(appearance, &mean);
+}
+
+void HumanTracker::blendAppearance(const PersonAppearance& view, PersonAppearance* mean) const {
+  for (size_t i = 0; i < mean->size(); ++i) (*mean)[i] += static_cast<float>(options_.appearance_rate) * (view[i] - (*mean)[i]);
 }
 
 int HumanTracker::reidentify(size_t fresh) const {
@@ -128,11 +130,7 @@ void HumanTracker::merge(size_t fresh, size_t old) {
   HumanTrack& track = tracks_[old];
   const std::vector<HumanTrackPoint>& points = tracks_[fresh].points;
   track.points.insert(track.points.end(), points.begin(), points.end());
-  PersonAppearance& mean = appearance_[old];
-  const PersonAppearance& seen = appearance_[fresh];
-  if (mean.size() == seen.size()) {
-    for (size_t i = 0; i < mean.size(); ++i) mean[i] += static_cast<float>(options_.appearance_rate) * (seen[i] - mean[i]);
-  }
+  if (appearance_[old].size() == appearance_[fresh].size()) blendAppearance(appearance_[fresh], &appearance_[old]);
   aliases_[tracks_[fresh].id] = track.id;
   // The old track may still be live, unseen: one live entry, the new track's, now for it.
   live_.erase(std::remove_if(live_.begin(), live_.end(), [&](const Live& l) { return l.track == old; }), live_.end());

@@ -259,11 +259,9 @@ class SlamSystem::Pipeline {
       for (auto& [id, p_c] : record.people_c) id = humans_.resolvedId(id);
     }
   }
+  // (BodyTrackAssembler groups the fits by track and orders each track's by frame itself.)
   std::vector<BodyTrackFit> relabelled(std::vector<BodyTrackFit> fits) const {
     for (BodyTrackFit& fit : fits) fit.track_id = humans_.resolvedId(fit.track_id);
-    std::stable_sort(fits.begin(), fits.end(), [](const BodyTrackFit& a, const BodyTrackFit& b) {
-      return a.track_id != b.track_id ? a.track_id < b.track_id : a.frame_index < b.frame_index;
-    });
     return fits;
   }
 

@@ -109,6 +109,8 @@ class HumanTracker {
   void merge(size_t fresh, size_t old);
   void ageUnseen(const std::vector<bool>& seen);
   void observe(size_t track, double timestamp, const Eigen::Vector3d& centre_w, const PersonAppearance& appearance);
+  // The running mean of a track's appearance takes in one more view (appearance_rate); sizes equal.
+  void blendAppearance(const PersonAppearance& view, PersonAppearance* mean) const;
 
   Options options_;
   std::vector<HumanTrack> tracks_;
