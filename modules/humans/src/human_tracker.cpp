@@ -99,7 +99,8 @@ void HumanTracker::observe(size_t track, double timestamp, const Eigen::Vector3d
 }
 
 void HumanTracker::blendAppearance(const PersonAppearance& view, PersonAppearance* mean) const {
-  for (size_t i = 0; i < mean->size(); ++i) (*mean)[i] += static_cast<float>(options_.appearance_rate) * (view[i] - (*mean)[i]);
+  const float rate = static_cast<float>(options_.appearance_rate);
+  for (size_t i = 0; i < mean->size(); ++i) (*mean)[i] += rate * (view[i] - (*mean)[i]);
 }
 
 int HumanTracker::reidentify(size_t fresh) const {
