@@ -35,6 +35,17 @@ void BM_ConvertSelfieGraph(benchmark::State& state) {
 }
 BENCHMARK(BM_ConvertSelfieGraph)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
+// The selfie network alone, as imported (0) and with TfjsGraph's layer fusion (1, the default).
+void BM_SelfieNetwork(benchmark::State& state) {
+  if (!humanModelAvailable("selfie")) return state.SkipWithError("no model; run scripts/fetch_models.sh");
+  TfjsGraph::Options options;
+  options.fuse_layers = state.range(0) != 0;
+  cv::dnn::Net net = TfjsGraph(humanModelPath("selfie")).loadNet(options);
+  net.setInput(cv::dnn::blobFromImage(benchFrame().rgb, 1.0 / 255.0, cv::Size(256, 256), cv::Scalar(), true, false));
+  for (auto _ : state) benchmark::DoNotOptimize(net.forward());
+}
+BENCHMARK(BM_SelfieNetwork)->Arg(0)->Arg(1)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+
 // Argument: square_crops (0: one stretched run, 1: two square crops).
 void BM_Selfie(benchmark::State& state) {
   if (!humanModelAvailable("selfie")) return state.SkipWithError("no model; run scripts/fetch_models.sh");

@@ -2,7 +2,10 @@
 
 #include <cstdint>
 #include <cstring>
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -265,7 +268,77 @@ struct TfjsGraph::Impl {
 
   void readWeights(const Json& manifest, const std::string& dir);
   void emitNode(ProtoWriter& graph, const Node& n) const;
+  // The node a data input names, or nullptr.
+  const Node* producer(const std::string& input) const;
+  // A float Const node's single value, or NaN.
+  float scalar(const std::string& input) const;
+  // x when n is the last Mul of x * relu6(x + 3) * (1/6), the form TF.js writes MobileNetV3's
+  // hard-swish in: Mul(Mul(1/6, x), Relu6(Add(x, 3))), either order throughout; else empty.
+  std::string hardSwishInput(const Node& n) const;
+  // The nodes to emit: a copy with the fused layers rewritten (channel_scales: Mul node -> the
+  // index of its per-channel input).
+  std::vector<Node> rewritten(const Options& options, const std::map<std::string, int>& channel_scales) const;
+  std::string graphDef(const Options& options, const std::map<std::string, int>& channel_scales) const;
+  // The Mul nodes the imported net runs as broadcasting Eltwise products of a tensor and a
+  // per-channel vector, with the vector's input index; empty when the input shape is not fixed.
+  std::map<std::string, int> channelScales(cv::dnn::Net& net, const Options& options) const;
+  cv::dnn::Net importNet(const std::string& graph_def) const;
 };
+
+const Node* TfjsGraph::Impl::producer(const std::string& input) const {
+  const auto it = index.find(producerOf(input));
+  return it == index.end() ? nullptr : &nodes[it->second];
+}
+
+float TfjsGraph::Impl::scalar(const std::string& input) const {
+  const Node* n = producer(input);
+  if (!n || n->op != "Const") return std::numeric_limits<float>::quiet_NaN();
+  const auto w = weights.find(n->name);
+  if (w == weights.end() || w->second.dtype != kFloat || w->second.data.size() != 4)
+    return std::numeric_limits<float>::quiet_NaN();
+  float value;
+  std::memcpy(&value, w->second.data.data(), 4);
+  return value;
+}
+
+std::string TfjsGraph::Impl::hardSwishInput(const Node& n) const {
+  if (n.op != "Mul" || n.inputs.size() != 2) return "";
+  // 1/6 and 3 as the model stores them (float16 in the selfie model: 1/6 -> 0.16663).
+  const auto near = [](float value, float expected) { return std::abs(value - expected) < 1e-3f * expected; };
+  const auto otherThan = [this, &near](const Node& binary, float constant) -> std::string {
+    if (binary.inputs.size() != 2) return "";
+    for (int i = 0; i < 2; ++i)
+      if (near(scalar(binary.inputs[i]), constant)) return binary.inputs[1 - i];
+    return "";
+  };
+  for (int i = 0; i < 2; ++i) {
+    const Node* scaled = producer(n.inputs[i]);
+    const Node* relu6 = producer(n.inputs[1 - i]);
+    if (!scaled || !relu6 || scaled->op != "Mul" || relu6->op != "Relu6" || relu6->inputs.size() != 1) continue;
+    const Node* shifted = producer(relu6->inputs[0]);
+    if (!shifted || (shifted->op != "Add" && shifted->op != "AddV2")) continue;
+    const std::string x = otherThan(*scaled, 1.f / 6.f);
+    if (!x.empty() && x == otherThan(*shifted, 3.f)) return x;
+  }
+  return "";
+}
+
+std::vector<Node> TfjsGraph::Impl::rewritten(const Options& options,
+                                             const std::map<std::string, int>& channel_scales) const {
+  std::vector<Node> out = nodes;
+  if (!options.fuse_layers) return out;
+  for (Node& n : out) {
+    const auto scale = channel_scales.find(n.name);
+    if (scale != channel_scales.end()) {
+      // OpenCV's Scale layer: input 0 the tensor, input 1 the per-channel factors.
+      n = Node{n.name, "Scale", {n.inputs[1 - scale->second], n.inputs[scale->second]}, Json::object()};
+      continue;
+    }
+    const std::string x = hardSwishInput(n);
+    if (!x.empty()) n = Node{n.name, "HardSwish", {x}, Json::object()};
+  }
+  return out;
+}
 
 void TfjsGraph::Impl::readWeights(const Json& manifest, const std::string& dir) {
   for (const Json& group : manifest) {
@@ -432,37 +505,47 @@ std::string TfjsGraph::layerName(const std::string& node) const {
   return n.name;
 }
 
-std::string TfjsGraph::toGraphDef(const Options& options) const {
-  const Impl& g = *impl_;
-  for (const auto& [name, shape] : options.new_inputs)
-    if (!g.index.count(name)) throw fileError(g.path, "new input '" + name + "' is not a node");
+std::string TfjsGraph::toGraphDef(const Options& options) const { return impl_->graphDef(options, {}); }
 
-  // Nodes to keep: everything, or what the outputs need, walking inputs up to the new inputs.
-  std::vector<bool> keep(g.nodes.size(), options.outputs.empty());
+std::string TfjsGraph::Impl::graphDef(const Options& options, const std::map<std::string, int>& channel_scales) const {
+  for (const auto& [name, shape] : options.new_inputs)
+    if (!index.count(name)) throw fileError(path, "new input '" + name + "' is not a node");
+  const std::vector<Node> graph_nodes = rewritten(options, channel_scales);
+
+  // Nodes to keep: what the outputs need (by default the graph's own outputs, the nodes nothing
+  // reads), walking inputs up to the new inputs; a fused chain's inner nodes fall away.
   std::vector<size_t> stack;
   for (const std::string& out : options.outputs) {
-    const auto it = g.index.find(out);
-    if (it == g.index.end()) throw fileError(g.path, "output '" + out + "' is not a node");
+    const auto it = index.find(out);
+    if (it == index.end()) throw fileError(path, "output '" + out + "' is not a node");
     stack.push_back(it->second);
   }
+  if (options.outputs.empty()) {
+    std::set<std::string> read;
+    for (const Node& n : nodes)
+      for (const std::string& in : n.inputs) read.insert(producerOf(in));
+    for (size_t i = 0; i < nodes.size(); ++i)
+      if (!read.count(nodes[i].name)) stack.push_back(i);
+  }
+  std::vector<bool> keep(nodes.size(), false);
   while (!stack.empty()) {
     const size_t i = stack.back();
     stack.pop_back();
     if (keep[i]) continue;
     keep[i] = true;
-    if (options.new_inputs.count(g.nodes[i].name)) continue;
-    for (const std::string& in : g.nodes[i].inputs) {
-      const auto it = g.index.find(producerOf(in));
-      if (it == g.index.end())
-        throw fileError(g.path, "node '" + g.nodes[i].name + "' reads unknown node '" + in + "'");
+    if (options.new_inputs.count(graph_nodes[i].name)) continue;
+    for (const std::string& in : graph_nodes[i].inputs) {
+      const auto it = index.find(producerOf(in));
+      if (it == index.end())
+        throw fileError(path, "node '" + graph_nodes[i].name + "' reads unknown node '" + in + "'");
       stack.push_back(it->second);
     }
   }
 
   ProtoWriter graph;
-  for (size_t i = 0; i < g.nodes.size(); ++i) {
+  for (size_t i = 0; i < graph_nodes.size(); ++i) {
     if (!keep[i]) continue;
-    Node n = g.nodes[i];
+    Node n = graph_nodes[i];
     const auto cut = options.new_inputs.find(n.name);
     if (cut != options.new_inputs.end()) {
       ProtoWriter node = nodeProto(n.name, "Placeholder", {});
@@ -480,23 +563,63 @@ std::string TfjsGraph::toGraphDef(const Options& options) const {
     for (const std::string& in : n.inputs)
       if (in[0] != '^') data_inputs.push_back(in);
     n.inputs = data_inputs;
-    g.emitNode(graph, n);
+    emitNode(graph, n);
   }
   return graph.str();
 }
 
-cv::dnn::Net TfjsGraph::loadNet(const Options& options) const {
-  const std::string graph_def = toGraphDef(options);
+cv::dnn::Net TfjsGraph::Impl::importNet(const std::string& graph_def) const {
   cv::dnn::Net net;
   try {
     net = cv::dnn::readNetFromTensorflow(graph_def.data(), graph_def.size());
   } catch (const cv::Exception& e) {
-    throw fileError(impl_->path, std::string("OpenCV DNN cannot import the graph: ") + e.what());
+    throw fileError(path, std::string("OpenCV DNN cannot import the graph: ") + e.what());
   }
-  if (net.empty()) throw fileError(impl_->path, "OpenCV DNN imported an empty network");
+  if (net.empty()) throw fileError(path, "OpenCV DNN imported an empty network");
   net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   return net;
+}
+
+std::map<std::string, int> TfjsGraph::Impl::channelScales(cv::dnn::Net& net, const Options& options) const {
+  // The network's one input, NHWC as the graph gives it: a new input's shape or a Placeholder's.
+  std::vector<int> nhwc;
+  if (options.new_inputs.size() == 1) nhwc = options.new_inputs.begin()->second;
+  for (const Node& n : nodes) {
+    if (!options.new_inputs.empty() || n.op != "Placeholder") continue;
+    if (!nhwc.empty() || !n.attr.contains("shape")) return {};
+    for (const Json& d : n.attr["shape"]["shape"].value("dim", Json::array()))
+      nhwc.push_back(d.contains("size") ? static_cast<int>(jsonInt(d["size"])) : -1);
+  }
+  if (nhwc.size() != 4 || *std::min_element(nhwc.begin(), nhwc.end()) <= 0) return {};
+  std::vector<int> ids;
+  std::vector<std::vector<cv::dnn::MatShape>> in_shapes, out_shapes;
+  try {
+    net.getLayersShapes(cv::dnn::MatShape{nhwc[0], nhwc[3], nhwc[1], nhwc[2]}, ids, in_shapes, out_shapes);
+  } catch (const cv::Exception&) {
+    return {};  // the fusion is an optimisation: a net OpenCV cannot size runs as imported
+  }
+  const auto isChannelVector = [](const cv::dnn::MatShape& v, const cv::dnn::MatShape& t) {
+    return v.size() == 4 && t.size() == 4 && v[0] == t[0] && v[1] == t[1] && v[2] == 1 && v[3] == 1 &&
+           t[2] * t[3] > 1;
+  };
+  std::map<std::string, int> scales;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const cv::Ptr<cv::dnn::Layer> layer = net.getLayer(ids[i]);
+    const Node* n = producer(layer->name);
+    if (layer->type != "Eltwise" || !n || n->op != "Mul" || n->inputs.size() != 2 || in_shapes[i].size() != 2)
+      continue;
+    for (int v = 0; v < 2; ++v)
+      if (isChannelVector(in_shapes[i][v], in_shapes[i][1 - v])) scales[n->name] = v;
+  }
+  return scales;
+}
+
+cv::dnn::Net TfjsGraph::loadNet(const Options& options) const {
+  cv::dnn::Net net = impl_->importNet(impl_->graphDef(options, {}));
+  if (!options.fuse_layers) return net;
+  const std::map<std::string, int> scales = impl_->channelScales(net, options);
+  return scales.empty() ? net : impl_->importNet(impl_->graphDef(options, scales));
 }
 
 cv::Mat TfjsGraph::constant(const std::string& name) const {

@@ -251,6 +251,75 @@ TEST(TfjsGraph, CutsInputsAndOutputs) {
   EXPECT_THROW(graph.toGraphDef(options), Error);
 }
 
+// MobileNetV3's blocks as TF.js writes them behind the tiny graph: a hard-swish chain
+// Mul(Mul(1/6, x), Relu6(x + 3)), a squeeze-and-excitation product (x times the sigmoid of its
+// channel means), and a look-alike chain with + 2 that is not a hard-swish.
+std::string mobileNetV3Nodes() {
+  const std::string pool_attrs =
+      "\"T\":{\"type\":\"DT_FLOAT\"},\"ksize\":{\"list\":{\"i\":[\"1\",\"" + std::to_string(kH) + "\",\"" +
+      std::to_string(kW) + "\",\"1\"]}},\"strides\":{\"list\":{\"i\":[\"1\",\"" + std::to_string(kH) + "\",\"" +
+      std::to_string(kW) + "\",\"1\"]}},\"padding\":{\"s\":\"VkFMSUQ=\"},\"data_format\":{\"s\":\"" + kNhwc + "\"}";
+  const std::string t = "\"T\":{\"type\":\"DT_FLOAT\"}";
+  return "," + constJson("sixth", "DT_FLOAT") + "," + constJson("three", "DT_FLOAT") + "," +
+         constJson("two", "DT_FLOAT") + "," + nodeJson("hs/mul", "Mul", "\"sixth\",\"dw/Relu\"", t) + "," +
+         nodeJson("hs/add", "AddV2", "\"dw/Relu\",\"three\"", t) + "," + nodeJson("hs/relu6", "Relu6", "\"hs/add\"", t) +
+         "," + nodeJson("hs/out", "Mul", "\"hs/mul\",\"hs/relu6\"", t) + "," +
+         nodeJson("se/pool", "AvgPool", "\"hs/out\"", pool_attrs) + "," +
+         nodeJson("se/sigmoid", "Sigmoid", "\"se/pool\"", t) + "," +
+         nodeJson("se/out", "Mul", "\"hs/out\",\"se/sigmoid\"", t) + "," +
+         nodeJson("not/mul", "Mul", "\"sixth\",\"se/out\"", t) + "," +
+         nodeJson("not/add", "AddV2", "\"se/out\",\"two\"", t) + "," + nodeJson("not/relu6", "Relu6", "\"not/add\"", t) +
+         "," + nodeJson("not/out", "Mul", "\"not/mul\",\"not/relu6\"", t);
+}
+
+// mobileNetV3Nodes() computed directly on the tiny graph's NHWC output y.
+std::vector<float> mobileNetV3Direct(const std::vector<float>& y) {
+  const auto relu6 = [](float v) { return std::min(std::max(v, 0.f), 6.f); };
+  std::vector<float> hs(y.size()), mean(kCout, 0.f), out(y.size());
+  for (size_t i = 0; i < y.size(); ++i) {
+    hs[i] = y[i] * relu6(y[i] + 3.f) / 6.f;
+    mean[i % kCout] += hs[i] / (kH * kW);
+  }
+  for (size_t i = 0; i < y.size(); ++i) {
+    const float se = hs[i] / (1.f + std::exp(-mean[i % kCout]));
+    out[i] = se * relu6(se + 2.f) / 6.f;
+  }
+  return out;
+}
+
+int layersOfType(cv::dnn::Net& net, const std::string& type) {
+  int count = 0;
+  for (const std::string& name : net.getLayerNames()) count += net.getLayer(name)->type == type;
+  return count;
+}
+
+TEST(TfjsGraph, FusedHardSwishAndChannelScaleComputeTheSame) {
+  const float constants[] = {1.f / 6.f, 3.f, 2.f};
+  const TinyModel m = writeTinyModel(
+      "pf2_tfjs_mobilenetv3", mobileNetV3Nodes(),
+      ",{\"name\":\"sixth\",\"shape\":[],\"dtype\":\"float32\"},{\"name\":\"three\",\"shape\":[],\"dtype\":"
+      "\"float32\"},{\"name\":\"two\",\"shape\":[],\"dtype\":\"float32\"}",
+      std::string(reinterpret_cast<const char*>(constants), sizeof(constants)));
+  const TfjsGraph graph(m.json_path);
+  const std::vector<float> x = makeInput();
+  float max_pre_relu6 = 0;
+  const std::vector<float> expected = mobileNetV3Direct(directForward(m, x, &max_pre_relu6));
+
+  TfjsGraph::Options plain;
+  plain.fuse_layers = false;
+  for (const TfjsGraph::Options& options : {plain, TfjsGraph::Options()}) {
+    cv::dnn::Net net = graph.loadNet(options);
+    const std::vector<float> got = runNet(net, x, "not/out");
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], expected[i], 1e-4f) << "element " << i;
+    // Fused: the hard-swish is one layer (its three inner nodes gone), the look-alike is not; the
+    // channel product is a Scale layer.
+    EXPECT_EQ(layersOfType(net, "HardSwish"), options.fuse_layers ? 1 : 0);
+    EXPECT_EQ(net.getLayer("se/out")->type, options.fuse_layers ? "Scale" : "Eltwise");
+    EXPECT_EQ(net.getLayer("not/out")->type, "Eltwise");
+    EXPECT_EQ(net.getLayerId("hs/relu6") >= 0, !options.fuse_layers);
+  }
+}
+
 TEST(TfjsGraph, BadFilesThrowWithTheFileName) {
   const std::string dir = testing::TempDir();
   EXPECT_THROW(TfjsGraph(dir + "pf2_tfjs_missing/model.json"), Error);
