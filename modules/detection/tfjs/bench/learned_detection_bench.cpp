@@ -1,8 +1,7 @@
 // Per-frame time of the learned detectors on a 640x480 frame (the real TUM fr3/walking_xyz frame
 // when the shared data is present, otherwise a synthetic one; the time does not depend on the
 // content). Needs the models (scripts/fetch_models.sh); reports an error per benchmark without.
-// CPU time counts all threads (OpenCV DNN runs its own); run with OPENCV_FOR_THREADS_NUM=1 for the
-// cost on one core.
+// CPU time counts all threads (OpenCV DNN runs its own, two on two cores); wall is the latency.
 #include <benchmark/benchmark.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
