@@ -9,6 +9,30 @@
 
 namespace pf2 {
 
+cv::Mat dilatedByDisc(const cv::Mat& image, int radius) {
+  CV_Assert(image.type() == CV_8UC1);
+  const int r = std::max(0, radius);
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
+  // spread[w]: every row's pixels spread w pixels to each side (a (2w + 1) x 1 dilation).
+  std::vector<cv::Mat> spread(r + 1);
+  spread[0] = image;
+  const cv::Mat one_each_side = cv::Mat::ones(1, 3, CV_8U);
+  for (int w = 1; w <= r; ++w)
+    cv::dilate(spread[w - 1], spread[w], one_each_side, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  // Kernel row dy is the symmetric span of half-width w(dy): output row v takes spread[w(dy)] at row v + dy.
+  cv::Mat out(image.size(), CV_8U, cv::Scalar(0));
+  for (int dy = -r; dy <= r; ++dy) {
+    const uchar* kernel_row = kernel.ptr<uchar>(dy + r);
+    int half_width = -1;
+    while (half_width < r && kernel_row[r + half_width + 1]) ++half_width;
+    const int first = std::max(0, -dy), end = std::min(image.rows, image.rows - dy);
+    if (half_width < 0 || first >= end) continue;
+    cv::Mat target = out.rowRange(first, end);
+    cv::max(target, spread[half_width].rowRange(first + dy, end + dy), target);
+  }
+  return out;
+}
+
 // The mask's pixels dilated by `radius` (a disc), as an image of `area`'s size: the mask's
 // bounding box grown by radius, clipped to the image. Empty (and area empty) for an empty mask.
 cv::Mat dilatedOnArea(const cv::Mat& mask, int radius, cv::Rect* area) {
@@ -20,12 +44,8 @@ cv::Mat dilatedOnArea(const cv::Mat& mask, int radius, cv::Rect* area) {
   const int r = std::max(0, radius);
   *area = cv::Rect(bounds.x - r, bounds.y - r, bounds.width + 2 * r, bounds.height + 2 * r) &
           cv::Rect(0, 0, mask.cols, mask.rows);
-  cv::Mat binary = mask(*area) > 0;
-  if (r > 0) {
-    cv::dilate(binary, binary, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)),
-               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED, cv::Scalar(0));
-  }
-  return binary;
+  const cv::Mat binary = mask(*area) > 0;
+  return r > 0 ? dilatedByDisc(binary, r) : binary;
 }
 
 cv::Rect warpWithCompanion(const cv::Mat& depth_src, const cv::Mat& companion_src,
