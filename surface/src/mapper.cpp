@@ -56,13 +56,18 @@ void Mapper::addKeyframe(int id, const cv::Mat& depth, const cv::Mat& bgr, const
   cv::Mat stored_depth, stored_bgr;
   decode(keyframe, &stored_depth, &stored_bgr);
   tsdf_.integrate(stored_depth, stored_bgr, K, T_w_c);
-  if (options_.build_occupancy && !occupancy_stale_) occupancy_.insert(stored_depth, stored_bgr, K, T_w_c);
+  if (options_.build_occupancy && !occupancy_stale_) occupancy_pending_.push_back(id);
   if (options_.keep_radius > 0) tsdf_.removeBlocksFartherThan(T_w_c.translation(), options_.keep_radius);
 
   keyframes_.emplace(id, std::move(keyframe));
   order_.push_back(id);
   if (options_.max_stored_keyframes > 0) {
     while (static_cast<int>(order_.size()) > options_.max_stored_keyframes) {
+      // A pending keyframe goes into the OctoMap before its images go (pending is in order_'s order).
+      if (!occupancy_pending_.empty() && occupancy_pending_.front() == order_.front()) {
+        insertIntoOccupancy(keyframes_.at(order_.front()));
+        occupancy_pending_.pop_front();
+      }
       keyframes_.erase(order_.front());
       order_.pop_front();
     }
@@ -87,21 +92,27 @@ int Mapper::updateKeyframePoses(const std::map<int, Eigen::Isometry3d>& T_w_c_by
     keyframe.T_w_c = T_w_c;
     ++moved;
   }
-  if (moved > 0 && options_.build_occupancy) occupancy_stale_ = true;
+  if (moved > 0 && options_.build_occupancy) {
+    occupancy_stale_ = true;
+    occupancy_pending_.clear();
+  }
   return moved;
+}
+
+void Mapper::insertIntoOccupancy(const Keyframe& keyframe) {
+  cv::Mat depth, bgr;
+  decode(keyframe, &depth, &bgr);
+  occupancy_.insert(depth, bgr, keyframe.K, keyframe.T_w_c);
 }
 
 OccupancyMap& Mapper::occupancy() {
   if (occupancy_stale_) {
     occupancy_.clear();
-    for (int id : order_) {
-      const Keyframe& keyframe = keyframes_.at(id);
-      cv::Mat depth, bgr;
-      decode(keyframe, &depth, &bgr);
-      occupancy_.insert(depth, bgr, keyframe.K, keyframe.T_w_c);
-    }
+    occupancy_pending_.assign(order_.begin(), order_.end());
     occupancy_stale_ = false;
   }
+  for (int id : occupancy_pending_) insertIntoOccupancy(keyframes_.at(id));
+  occupancy_pending_.clear();
   return occupancy_;
 }
 

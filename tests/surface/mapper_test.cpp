@@ -132,6 +132,26 @@ TEST(Mapper, KeepsOnlyTheNewestKeyframesWhenAsked) {
   EXPECT_THROW(mapper.exportMap(freshDirectory("no_octomap")), Error);
 }
 
+TEST(Mapper, TheOctoMapHoldsKeyframesWhoseImagesWereDropped) {
+  // Filled when read, the OctoMap must still get the keyframes whose images went before: the same
+  // cells as a mapper that kept every keyframe, and more than the kept keyframes alone give.
+  Mapper::Options bounded_options;
+  bounded_options.max_stored_keyframes = 1;
+  Mapper bounded(bounded_options), unbounded, newest_only;
+  const CameraIntrinsics K;
+  cv::Mat depth, bgr;
+  for (int i = 0; i < 4; ++i) {
+    wall().render(K, wallPose(3 * i), &depth, &bgr);
+    bounded.addKeyframe(i, depth, bgr, K, wallPose(3 * i));
+    unbounded.addKeyframe(i, depth, bgr, K, wallPose(3 * i));
+  }
+  newest_only.addKeyframe(3, depth, bgr, K, wallPose(9));
+  const std::size_t before = bounded.memoryBytes();
+  EXPECT_EQ(bounded.occupancy().occupiedCentres(), unbounded.occupancy().occupiedCentres());
+  EXPECT_GT(bounded.occupancy().occupiedCount(), newest_only.occupancy().occupiedCount());
+  EXPECT_GT(bounded.memoryBytes(), before);  // the newest keyframe went in when read
+}
+
 TEST(Mapper, ExportedFilesReadBackWithPclAndOctomap) {
   AnalyticScene scene;
   scene.has_room = true;

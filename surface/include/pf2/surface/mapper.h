@@ -5,7 +5,9 @@
 // the volume always fuses the decoded copy, so de-integrating it later is exact (BundleFusion's
 // scheme), and updateKeyframePoses() moves a keyframe by de-integrating it at the old pose and
 // integrating it at the new one. The OctoMap cannot be de-integrated (its log-odds are clamped);
-// after a pose update it is rebuilt from the stored keyframes the next time it is read.
+// it is filled when it is read (export) or when a keyframe's images are about to be dropped,
+// since a pose update would only have it rebuilt from the stored keyframes then: on a run whose
+// poses the back end corrects, every insertion made before the correction was wasted work.
 //
 // Bounded memory on long runs: `max_stored_keyframes` keeps only the newest keyframes' images
 // (older keyframes stay fused but are frozen), and `keep_radius` drops TSDF blocks far from the
@@ -60,14 +62,15 @@ class Mapper {
   int updateKeyframePoses(const std::map<int, Eigen::Isometry3d>& T_w_c_by_id);
 
   const TsdfVolume& tsdf() const { return tsdf_; }
-  // The OctoMap, rebuilt first when keyframes moved since it was built. NOT thread safe.
+  // The OctoMap of the keyframes at their current poses: the pending keyframes inserted, or the
+  // whole map rebuilt from the stored keyframes when keyframes moved. NOT thread safe.
   OccupancyMap& occupancy();
   TriangleMesh extractMesh() const { return tsdf_.extractMesh(); }
 
   std::size_t keyframeCount() const { return keyframes_.size(); }  // stored (movable) keyframes
   // The pose keyframe `id` is fused at; false when it is not stored.
   bool keyframePose(int id, Eigen::Isometry3d* T_w_c) const;
-  // Bytes of the stored keyframe images, the TSDF blocks and the OctoMap.
+  // Bytes of the stored keyframe images, the TSDF blocks and the OctoMap as filled so far.
   std::size_t memoryBytes() const;
 
   // Writes the chosen files into `directory` (which must exist), each atomically. Throws
@@ -85,11 +88,13 @@ class Mapper {
     Eigen::Isometry3d T_w_c;                 // the pose it is fused at
   };
   void decode(const Keyframe& keyframe, cv::Mat* depth, cv::Mat* bgr) const;
+  void insertIntoOccupancy(const Keyframe& keyframe);
 
   Options options_;
   TsdfVolume tsdf_;
   OccupancyMap occupancy_;
-  bool occupancy_stale_ = false;
+  bool occupancy_stale_ = false;         // keyframes moved: the OctoMap must be rebuilt
+  std::deque<int> occupancy_pending_;    // stored keyframes not in the OctoMap yet (not stale), oldest first
   std::map<int, Keyframe> keyframes_;
   std::deque<int> order_;  // stored ids, oldest first
 };
