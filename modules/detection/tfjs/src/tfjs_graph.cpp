@@ -1,11 +1,12 @@
 #include "pf2/detection/tfjs_graph.h"
 
-#include <cstdint>
-#include <cstring>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <unordered_map>
