@@ -92,11 +92,17 @@ int Mapper::updateKeyframePoses(const std::map<int, Eigen::Isometry3d>& T_w_c_by
     keyframe.T_w_c = T_w_c;
     ++moved;
   }
+  refusions_ += moved;
   if (moved > 0 && options_.build_occupancy) {
     occupancy_stale_ = true;
     occupancy_pending_.clear();
   }
   return moved;
+}
+
+int Mapper::nextToDrop() const {
+  const bool full = options_.max_stored_keyframes > 0 && static_cast<int>(order_.size()) >= options_.max_stored_keyframes;
+  return full ? order_.front() : -1;
 }
 
 void Mapper::insertIntoOccupancy(const Keyframe& keyframe) {

@@ -120,6 +120,7 @@ TEST(Mapper, KeepsOnlyTheNewestKeyframesWhenAsked) {
   const CameraIntrinsics K;
   cv::Mat depth, bgr;
   for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(mapper.nextToDrop(), i < 2 ? -1 : 10 + i - 2);
     wall().render(K, wallPose(i), &depth, &bgr);
     mapper.addKeyframe(10 + i, depth, bgr, K, wallPose(i));
   }

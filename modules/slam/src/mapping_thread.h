@@ -1,6 +1,7 @@
 #pragma once
 // The mapper's thread (private to modules/slam): keyframes, and frames fused in between, go into
-// the Mapper in a thread of their own, which follows the pose graph's corrections.
+// the Mapper in a thread of their own; the pose graph's corrections reach the map after every
+// correction (follow_corrections) or once, at the end of the run (moveTo).
 //
 // Thread safety: push(), finish(), stop() and moveTo() from the front end's thread; the Mapper is
 // touched only by the mapping thread until stop() (or, synchronous, only inside push()).
@@ -45,14 +46,23 @@ inline std::map<int, Eigen::Isometry3d> fusedPoses(const std::map<int, Eigen::Is
   return poses;
 }
 
-// Fuses keyframes (and in-between frames) into the map in its own thread and follows the pose
-// graph's corrections. Only that thread touches the Mapper until stop().
+// Fuses keyframes (and in-between frames) into the map in its own thread. Only that thread
+// touches the Mapper until stop().
+//
+// Why the corrections may wait for the end: the back end moves the same keyframes again and again
+// (a growing drift correction: 68 re-fusions of 38 fused frames in the 150 Bonn crowd frames),
+// each a de-integration and an integration, while nothing reads the map before the run ends. The
+// re-fusion is exact, so the final map is the same either way (to float rounding); a frame the
+// Mapper is about to drop (max_stored_keyframes) still goes to its current pose first.
 class MappingThread {
  public:
   // synchronous: no thread of its own; push() fuses at once in the caller's thread, so the map does
   // not depend on how the threads were scheduled (the same map on every run; slower).
-  MappingThread(Mapper* mapper, const KeyframeMap* keyframes, StageStats* stats, bool synchronous)
-      : mapper_(mapper), keyframes_(keyframes), stats_(stats), synchronous_(synchronous) {
+  // follow_corrections: re-fuse after every pose-graph correction, not only in moveTo().
+  MappingThread(Mapper* mapper, const KeyframeMap* keyframes, StageStats* stats, bool synchronous,
+                bool follow_corrections)
+      : mapper_(mapper), keyframes_(keyframes), stats_(stats), synchronous_(synchronous),
+        follow_corrections_(follow_corrections) {
     if (!synchronous_) thread_ = std::thread([this] { fuse(); });
   }
   ~MappingThread() { stop(); }
@@ -87,12 +97,14 @@ class MappingThread {
       }
     }
   }
-  // One frame into the map; then, if the pose graph moved keyframes since, everything fused so far
-  // follows them.
+  // One frame into the map; then, when following corrections and the pose graph moved keyframes
+  // since, everything fused so far follows them.
   void fuseOne(const FusionJob& job) {
     ScopedStageTimer timer(stats_, "map");
     anchors_[job.id] = {job.keyframe_id, job.T_k_c};
+    if (!follow_corrections_) placeBeforeDropping();
     mapper_->addKeyframe(job.id, job.static_depth, job.rgb, job.K, job.T_w_c);
+    if (!follow_corrections_) return;
     const uint64_t revision = keyframes_->revision();
     if (revision != revision_seen_) {
       revision_seen_ = revision;
@@ -100,10 +112,19 @@ class MappingThread {
     }
   }
 
+  // The frame the Mapper drops next freezes where it is: it goes to its current pose first.
+  void placeBeforeDropping() {
+    const int id = mapper_->nextToDrop();
+    const auto anchor = anchors_.find(id);
+    if (anchor == anchors_.end()) return;
+    mapper_->updateKeyframePoses(fusedPoses(keyframes_->poses(), {{id, anchor->second}}));
+  }
+
   Mapper* mapper_;
   const KeyframeMap* keyframes_;
   StageStats* stats_;
   const bool synchronous_;
+  const bool follow_corrections_;
   WorkQueue<FusionJob> jobs_{64};
   std::map<int, std::pair<int, Eigen::Isometry3d>> anchors_;  // fused id -> (keyframe id, T_k_c)
   uint64_t revision_seen_ = 0;

@@ -185,6 +185,9 @@ void mapSettings(SlamOptions& o, Settings& s) {
   s.boolean("map.build", &o.build_map, "fuse the map (TSDF and OctoMap)");
   s.boolean("map.synchronous", &o.synchronous_map,
             "fuse in the front end's thread: the same map on every run (with tracker.asynchronous_backend false), slower");
+  s.boolean("map.follow_corrections", &o.follow_corrections,
+            "re-fuse the keyframes the pose graph moved after every correction; false: once, at the end (the "
+            "same final map, less work)");
   s.integer("map.fuse_every", &o.fuse_every, 0, 1000, "frames",
             "also fuse every n-th tracked frame between keyframes (0 = keyframes only)");
   s.number("map.voxel_size", &m.tsdf.voxel_size, 0.002, 0.2, "metres", "TSDF voxel edge");

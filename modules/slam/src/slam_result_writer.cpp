@@ -32,7 +32,7 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
   out << "{\"frames\":" << s.frames << ",\"tracked\":" << s.tracked << ",\"lost\":" << s.lost
       << ",\"relocalised\":" << s.relocalised << ",\"bridged\":" << s.bridged
       << ",\"keyframes\":" << s.keyframes << ",\"loop_closures\":" << s.loop_closures
-      << ",\"local_edges\":" << s.local_edges
+      << ",\"local_edges\":" << s.local_edges << ",\"map_refusions\":" << s.map_refusions
       << ",\"dropped\":" << s.dropped << ",\"stopped\":" << (s.stopped ? "true" : "false")
       << ",\"body_fits_offered\":" << s.body_fits_offered << ",\"body_fits_skipped\":" << s.body_fits_skipped
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector

@@ -134,7 +134,8 @@ class SlamSystem::Pipeline {
       body_fitter_ = std::make_unique<BodyTrackFitter>(*body_model_, options.bodies);
     }
     if (options.build_map) {
-      mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats, options.synchronous_map);
+      mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats, options.synchronous_map,
+                                                 options.follow_corrections);
     }
     summary_.detector = removal_ ? removal_->detector().name() : "none";
   }
@@ -220,6 +221,7 @@ class SlamSystem::Pipeline {
     result.tracker_stages_json = tracker_.stats().toJson();
     if (mapping_) {
       mapping_->moveTo(keyframe_poses);
+      result.summary.map_refusions = mapper_->refusions();
       result.map = mapper_;
       result.map_files = options_.map_files;
       // Without an OctoMap (map.octomap false) there is no map.bt / map.ot to write.

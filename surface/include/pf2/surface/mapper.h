@@ -68,6 +68,10 @@ class Mapper {
   TriangleMesh extractMesh() const { return tsdf_.extractMesh(); }
 
   std::size_t keyframeCount() const { return keyframes_.size(); }  // stored (movable) keyframes
+  // The stored keyframe the next addKeyframe() drops (max_stored_keyframes reached), or -1.
+  int nextToDrop() const;
+  // Keyframes re-fused by updateKeyframePoses() so far.
+  int refusions() const { return refusions_; }
   // The pose keyframe `id` is fused at; false when it is not stored.
   bool keyframePose(int id, Eigen::Isometry3d* T_w_c) const;
   // Bytes of the stored keyframe images, the TSDF blocks and the OctoMap as filled so far.
@@ -97,6 +101,7 @@ class Mapper {
   std::deque<int> occupancy_pending_;    // stored keyframes not in the OctoMap yet (not stale), oldest first
   std::map<int, Keyframe> keyframes_;
   std::deque<int> order_;  // stored ids, oldest first
+  int refusions_ = 0;
 };
 
 // The mesh's vertices as coloured points (pcl::PointXYZRGB), binary PCD, written atomically.

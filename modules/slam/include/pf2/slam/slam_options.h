@@ -72,6 +72,8 @@ struct SlamOptions {
   bool build_map = true;             // fuse keyframes into the TSDF and OctoMap
   bool synchronous_map = false;      // fuse in the front end's thread: the same map on every run
                                      // (with tracker.asynchronous_backend false), slower
+  bool follow_corrections = false;   // re-fuse moved keyframes after every pose-graph correction, not
+                                     // only at the end (the same final map; for a reader during the run)
   int fuse_every = 10;               // also fuse every n-th tracked frame between keyframes (0 = keyframes only):
                                      // surface seen only briefly (behind people who walk by) gets into the map
   Mapper::ExportOptions map_files;   // which map files are written at the end

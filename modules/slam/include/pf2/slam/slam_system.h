@@ -33,6 +33,7 @@ struct SlamRunSummary {
   int keyframes = 0;
   int loop_closures = 0; // verified loop edges in the keyframe pose graph
   int local_edges = 0;   // verified edges between near keyframes (the back end's local window)
+  int map_refusions = 0; // fused frames re-fused because the pose graph moved them (map.follow_corrections)
   double seconds = 0;    // wall time of the run, from the first frame read to the last tracked
   double fps = 0;        // frames / seconds (end to end, decoding included)
   int dropped = 0;       // frames a live stream dropped because the pipeline was still busy
