@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ccache pkg-config git
   libeigen3-dev libopencv-dev libpcl-dev liboctomap-dev libceres-dev libboost-all-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libzip-dev zlib1g-dev nlohmann-json3-dev
+  libzip-dev zlib1g-dev libdeflate-dev nlohmann-json3-dev
   python3 python3-numpy python3-distributed python3-yaml
   xvfb xauth
   chromium  # the headless browser the report test opens report.html in
