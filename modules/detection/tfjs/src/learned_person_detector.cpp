@@ -23,6 +23,47 @@ int confidentKeypoints(const PersonDetection& pose, float min_score) {
                                         [min_score](const Keypoint2d& k) { return k.score >= min_score; }));
 }
 
+// A component several poses claim: each pixel to the owner with the nearest confident keypoint
+// among those whose claim contains it (any owner if none does), set in that owner's pose mask.
+void splitSharedComponent(const cv::Mat& mask, const PersonBox& box, const std::vector<size_t>& owners,
+                          const std::vector<PersonDetection>& poses, const std::vector<cv::Rect>& claims,
+                          float min_score, std::vector<cv::Mat>* pose_masks) {
+  // Per owner its confident keypoints, and per row their squared vertical distances (the sum
+  // below adds the same two float terms as the distance written out, so the result is the same).
+  std::vector<std::vector<cv::Point2f>> keypoints(owners.size());
+  for (size_t o = 0; o < owners.size(); ++o)
+    for (const Keypoint2d& k : poses[owners[o]].keypoints)
+      if (k.score >= min_score) keypoints[o].emplace_back(k.u, k.v);
+  std::vector<std::vector<float>> dv2(owners.size());
+  const int u0 = static_cast<int>(box.x_ul), u1 = static_cast<int>(box.x_lr);
+  for (int v = static_cast<int>(box.y_ul); v < static_cast<int>(box.y_lr); ++v) {
+    for (size_t o = 0; o < owners.size(); ++o) {
+      dv2[o].resize(keypoints[o].size());
+      for (size_t j = 0; j < keypoints[o].size(); ++j) dv2[o][j] = (keypoints[o][j].y - v) * (keypoints[o][j].y - v);
+    }
+    const uint8_t* in = mask.ptr<uint8_t>(v);
+    for (int u = u0; u < u1; ++u) {
+      if (!in[u]) continue;
+      size_t best = owners[0];
+      float best_d2 = std::numeric_limits<float>::max();
+      bool best_inside = false;
+      for (size_t o = 0; o < owners.size(); ++o) {
+        const bool inside = claims[owners[o]].contains(cv::Point(u, v));
+        if (best_inside && !inside) continue;
+        float d2 = std::numeric_limits<float>::max();
+        for (size_t j = 0; j < keypoints[o].size(); ++j)
+          d2 = std::min(d2, (keypoints[o][j].x - u) * (keypoints[o][j].x - u) + dv2[o][j]);
+        if ((inside && !best_inside) || d2 < best_d2) {
+          best = owners[o];
+          best_d2 = d2;
+          best_inside = inside;
+        }
+      }
+      (*pose_masks)[best].at<uint8_t>(v, u) = 255;
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
@@ -64,32 +105,7 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
       pose_masks[owners[0]] |= mask;
       continue;
     }
-    // Shared component: each pixel to the owner with the nearest confident keypoint among those
-    // whose claim contains it (any owner if none does).
-    const int u0 = static_cast<int>(component.box.x_ul), u1 = static_cast<int>(component.box.x_lr);
-    for (int v = static_cast<int>(component.box.y_ul); v < static_cast<int>(component.box.y_lr); ++v) {
-      const uint8_t* in = mask.ptr<uint8_t>(v);
-      for (int u = u0; u < u1; ++u) {
-        if (!in[u]) continue;
-        size_t best = owners[0];
-        float best_d2 = std::numeric_limits<float>::max();
-        bool best_inside = false;
-        for (size_t i : owners) {
-          const bool inside = claims[i].contains(cv::Point(u, v));
-          if (best_inside && !inside) continue;
-          float d2 = std::numeric_limits<float>::max();
-          for (const Keypoint2d& k : poses[i].keypoints)
-            if (k.score >= options.keypoint_min_score)
-              d2 = std::min(d2, (k.u - u) * (k.u - u) + (k.v - v) * (k.v - v));
-          if ((inside && !best_inside) || d2 < best_d2) {
-            best = i;
-            best_d2 = d2;
-            best_inside = inside;
-          }
-        }
-        pose_masks[best].at<uint8_t>(v, u) = 255;
-      }
-    }
+    splitSharedComponent(mask, component.box, owners, poses, claims, options.keypoint_min_score, &pose_masks);
   }
 
   for (size_t i = 0; i < poses.size(); ++i) {
