@@ -20,34 +20,26 @@ namespace {
 
 constexpr int kMaxSide = 16384;
 
-std::uint32_t bigEndian32(const unsigned char* p) {
-  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
-}
-
 // Walks the PNG's chunks up to IEND; returns the IHDR size. Throws naming the path and the fault.
 cv::Size checkPng(const std::string& path, const std::vector<unsigned char>& bytes, const std::string& what) {
   cv::Size size;
-  size_t at = 8;
-  bool ended = false;
-  while (!ended) {
-    if (at + 12 > bytes.size()) throw fileError(path, what + " is truncated (PNG ends inside a chunk)");
-    const std::uint32_t length = bigEndian32(&bytes[at]);
-    if (length > bytes.size() - at - 12) throw fileError(path, what + " is truncated or corrupt (a PNG chunk runs past its end)");
-    const unsigned char* type = &bytes[at + 4];
-    const std::uint32_t crc = bigEndian32(&bytes[at + 8 + length]);
-    if (crc32(crc32(0L, Z_NULL, 0), type, length + 4) != crc) throw fileError(path, what + " is corrupt (PNG chunk CRC mismatch)");
-    const std::string name(reinterpret_cast<const char*>(type), 4);
-    if (name == "IHDR" && length >= 8) {
-      const std::uint32_t width = bigEndian32(type + 4), height = bigEndian32(type + 8);
+  const auto visit = [&](const unsigned char* type, const unsigned char* data, std::uint32_t length,
+                         std::uint32_t crc) {
+    if (crc32(crc32(0L, Z_NULL, 0), type, length + 4) != crc)
+      throw fileError(path, what + " is corrupt (PNG chunk CRC mismatch)");
+    if (std::string(reinterpret_cast<const char*>(type), 4) == "IHDR" && length >= 8) {
+      const std::uint32_t width = bigEndian32(data), height = bigEndian32(data + 4);
       if (width > kMaxSide || height > kMaxSide) {
         throw fileError(path, what + " is " + std::to_string(width) + "x" + std::to_string(height) +
                                   ", larger than 16384 pixels a side");
       }
       size = cv::Size(static_cast<int>(width), static_cast<int>(height));
     }
-    ended = name == "IEND";
-    at += 12 + length;
-  }
+  };
+  const PngWalk walk = walkPngChunks(bytes, visit);
+  if (walk == PngWalk::kTruncated) throw fileError(path, what + " is truncated (PNG ends inside a chunk)");
+  if (walk == PngWalk::kOverrun)
+    throw fileError(path, what + " is truncated or corrupt (a PNG chunk runs past its end)");
   if (size.area() == 0) throw fileError(path, what + " is corrupt (PNG without an image header)");
   return size;
 }

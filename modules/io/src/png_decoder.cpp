@@ -12,10 +12,6 @@
 namespace pf2 {
 namespace {
 
-std::uint32_t bigEndian32(const unsigned char* p) {
-  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
-}
-
 struct PngLayout {
   int width = 0, height = 0, bit_depth = 0, colour_type = -1;
   bool interlaced = false;
@@ -24,28 +20,21 @@ struct PngLayout {
 
 // The header and the compressed data; false on anything unexpected.
 bool readLayout(const std::vector<unsigned char>& bytes, PngLayout* png) {
-  std::size_t at = 8;
   bool header = false;
-  while (at + 12 <= bytes.size()) {
-    const std::uint32_t length = bigEndian32(&bytes[at]);
-    if (length > bytes.size() - at - 12) return false;
-    const std::string type(reinterpret_cast<const char*>(&bytes[at + 4]), 4);
-    const unsigned char* data = &bytes[at + 8];
-    if (type == "IHDR" && length == 13) {
+  const auto visit = [&](const unsigned char* type, const unsigned char* data, std::uint32_t length, std::uint32_t) {
+    const std::string name(reinterpret_cast<const char*>(type), 4);
+    if (name == "IHDR" && length == 13) {
       png->width = static_cast<int>(bigEndian32(data));
       png->height = static_cast<int>(bigEndian32(data + 4));
       png->bit_depth = data[8];
       png->colour_type = data[9];
       png->interlaced = data[12] != 0;
       header = data[10] == 0 && data[11] == 0;  // deflate, adaptive filtering: the only ones defined
-    } else if (type == "IDAT") {
+    } else if (name == "IDAT") {
       png->compressed.insert(png->compressed.end(), data, data + length);
-    } else if (type == "IEND") {
-      return header;
     }
-    at += 12 + length;
-  }
-  return false;
+  };
+  return walkPngChunks(bytes, visit) == PngWalk::kEnded && header;
 }
 
 // Paeth's predictor (PNG specification, filter type 4).
