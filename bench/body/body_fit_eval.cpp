@@ -32,6 +32,7 @@ namespace {
 const char* kUsage =
     "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
+    "                         [--no-keypoint-offsets]\n"
     "                         [--weight-depth W] [--weight-pose W] [--weight-shape W]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
     "in every K-th frame (default 10) of a pf2_synth sequence and scores the fitted joints against\n"
@@ -39,7 +40,9 @@ const char* kUsage =
     "joints projected into the image (outside the image or hidden behind something else = missing),\n"
     "plus Gaussian noise of PX pixels; learned: MoveNet keypoints of the `learned` detector, matched\n"
     "to people by box IoU >= 0.3. --temporal starts each fit from the same person's previous fit.\n"
-    "--no-depth fits the keypoints alone. --weight-* override BodyFitter::Options.\n";
+    "--no-depth fits the keypoints alone. --weight-* override BodyFitter::Options. The fitter places\n"
+    "MoveNet's keypoints beside their joints (CocoJointLink::offset) unless --no-keypoint-offsets;\n"
+    "with --detector gt, whose keypoints are the joints themselves, never.\n";
 
 using Joints = pf2::BodyJoints;
 long long micros(double stamp) { return pf2::timestampMicros(stamp); }
@@ -112,10 +115,12 @@ int run(int argc, char** argv) {
   fit_options.weight_depth = cli.number("--weight-depth", fit_options.weight_depth);
   fit_options.weight_pose = cli.number("--weight-pose", fit_options.weight_pose);
   fit_options.weight_shape = cli.number("--weight-shape", fit_options.weight_shape);
+  fit_options.keypoint_offsets = !cli.flag("--no-keypoint-offsets");
   const auto positionals = cli.positionals();
   if (positionals.size() != 1) throw pf2::Error("expected SEQUENCE_DIR (see -h)");
   if (every < 1 || noise_px < 0) throw pf2::Error("--every must be >= 1 and --noise >= 0");
   if (detector_name != "gt" && detector_name != "learned") throw pf2::Error("--detector must be gt or learned");
+  if (detector_name == "gt") fit_options.keypoint_offsets = false;
   const std::string folder = positionals[0];
 
   const pf2::TumSequence sequence(folder);
@@ -244,9 +249,10 @@ int run(int argc, char** argv) {
 
   char noise_text[64] = "";
   if (!detector) std::snprintf(noise_text, sizeof noise_text, " + noise %.1f px", noise_px);
-  std::printf("keypoints %s%s, depth %s, %s start: person-frames %d (visible >= %.2f, every %d-th frame)\n",
-              detector ? "learned (MoveNet)" : "gt-projected", noise_text, no_depth ? "off" : "on",
-              temporal ? "temporal" : "eq. 2", person_frames, min_visible, every);
+  std::printf("keypoints %s%s, offsets %s, depth %s, %s start: person-frames %d (visible >= %.2f, every %d-th "
+              "frame)\n",
+              detector ? "learned (MoveNet)" : "gt-projected", noise_text, fit_options.keypoint_offsets ? "on" : "off",
+              no_depth ? "off" : "on", temporal ? "temporal" : "eq. 2", person_frames, min_visible, every);
   std::printf("fitted %zu, too few keypoints %d, other invalid %d, unmatched %d\n", mpjpe.size(), no_keypoints,
               invalid, unmatched);
   if (mpjpe.empty()) {

@@ -230,10 +230,10 @@ TEST(BodyTrackFitter, FitsEveryNthFrameAndCountsWhatItDrops) {
   observation.intrinsics = K;
   observation.T_w_c = Eigen::Isometry3d::Identity();
   observation.keyframe_id = 0;
+  const auto keypoints = BodyFitter(model()).keypointPoints(truth);
   for (int k = 0; k < kCocoKeypointCount; ++k) {
-    const int joint = kCocoToBodyJoint[k].joint;
-    if (joint < 0) continue;
-    const Eigen::Vector3d& p = joints[joint];
+    if (kCocoToBodyJoint[k].joint < 0) continue;
+    const Eigen::Vector3d& p = keypoints[k];
     observation.keypoints[k] = {K.fx * p.x() / p.z() + K.cx, K.fy * p.y() / p.z() + K.cy, 0.9};
   }
   BodyTrackFitter::Options options;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include <ceres/ceres.h>
@@ -18,23 +19,23 @@ const std::array<const char*, kCocoKeypointCount> kCocoKeypointNames = {
     "right_hip",  "left_knee",  "right_knee",     "left_ankle",     "right_ankle"};
 
 const std::array<CocoJointLink, kCocoKeypointCount> kCocoToBodyJoint = {{
-    {15, 1.0},  // nose -> head
-    {-1, 0.0},  // left_eye
-    {-1, 0.0},  // right_eye
-    {15, 0.5},  // left_ear -> head
-    {15, 0.5},  // right_ear -> head
-    {16, 1.0},  // left_shoulder
-    {17, 1.0},  // right_shoulder
-    {18, 1.0},  // left_elbow
-    {19, 1.0},  // right_elbow
-    {20, 1.0},  // left_wrist
-    {21, 1.0},  // right_wrist
-    {1, 1.0},   // left_hip
-    {2, 1.0},   // right_hip
-    {4, 1.0},   // left_knee
-    {5, 1.0},   // right_knee
-    {7, 1.0},   // left_ankle
-    {8, 1.0},   // right_ankle
+    {15, 1.0, {0.0, 0.008, 0.0}, 0.085},       // nose -> head
+    {-1, 0.0, {0.0, 0.0, 0.0}, 0.0},           // left_eye
+    {-1, 0.0, {0.0, 0.0, 0.0}, 0.0},           // right_eye
+    {15, 0.5, {0.048, 0.018, 0.0}, 0.06},      // left_ear -> head
+    {15, 0.5, {-0.048, 0.018, 0.0}, 0.06},     // right_ear -> head
+    {16, 1.0, {0.0, 0.018, 0.0}, 0.045},       // left_shoulder
+    {17, 1.0, {0.0, 0.018, 0.0}, 0.045},       // right_shoulder
+    {18, 1.0, {-0.012, 0.0, 0.0}, 0.03},       // left_elbow
+    {19, 1.0, {0.012, 0.0, 0.0}, 0.03},        // right_elbow
+    {20, 1.0, {0.0, 0.0, 0.0}, 0.015},         // left_wrist
+    {21, 1.0, {0.0, 0.0, 0.0}, 0.015},         // right_wrist
+    {1, 1.0, {0.0, 0.026, 0.0}, 0.12},         // left_hip
+    {2, 1.0, {0.0, 0.026, 0.0}, 0.12},         // right_hip
+    {4, 1.0, {0.0, 0.0, 0.0}, 0.05},           // left_knee
+    {5, 1.0, {0.0, 0.0, 0.0}, 0.05},           // right_knee
+    {7, 1.0, {0.0, 0.028, 0.0}, 0.03},         // left_ankle
+    {8, 1.0, {0.0, 0.028, 0.0}, 0.03},         // right_ankle
 }};
 
 namespace {
@@ -43,21 +44,6 @@ constexpr int kShapes = BodyFitter::Options::kShapeCount;
 constexpr int kBodyPoseSize = 3 * (kBodyJointCount - 1);  // joints 1..23
 constexpr int kResiduals2d = 2 * kCocoKeypointCount;
 constexpr int kResidualsData = kResiduals2d + kCocoKeypointCount;  // 2D + depth per keypoint
-
-// How far below the visible surface each observed joint lies (m): roughly the radius of the body
-// part around it on the default body. The depth term compares the joint's z with the surface's.
-double jointDepthBelowSurface(int joint) {
-  switch (joint) {
-    case 15: return 0.09;            // head
-    case 1: case 2: return 0.09;     // hips (deep in the pelvis)
-    case 16: case 17: return 0.05;   // shoulders
-    case 18: case 19: return 0.04;   // elbows
-    case 20: case 21: return 0.03;   // wrists
-    case 4: case 5: return 0.05;     // knees
-    case 7: case 8: return 0.04;     // ankles
-    default: return 0.08;
-  }
-}
 
 // The pose the prior pulls towards and the fit starts from: standing, arms lowered 70° from the
 // T pose (zero pose would hold the arms straight out, which people rarely do).
@@ -71,17 +57,18 @@ std::array<Eigen::Vector3d, kBodyJointCount> relaxedPose() {
 
 // Posed joints from (root axis-angle, translation, 23 joint axis-angles, shapes), as
 // BodyModel::evaluate computes them: G_j = G_parent * [R_j | J_j - J_parent], joint = G_j.t + t.
+// G_R receives each joint's rotation in the output frame, row-major.
 template <typename T>
 void forwardKinematics(const Eigen::Matrix<double, 3 * kBodyJointCount, 1>& rest,
                        const Eigen::Matrix<double, 3 * kBodyJointCount, kShapes>& shapedirs, const T* root,
-                       const T* translation, const T* body, const T* shape, T joints[kBodyJointCount][3]) {
+                       const T* translation, const T* body, const T* shape, T joints[kBodyJointCount][3],
+                       T G_R[kBodyJointCount][9]) {
   T J[kBodyJointCount][3];
   for (int i = 0; i < 3 * kBodyJointCount; ++i) {
     T value = T(rest[i]);
     for (int b = 0; b < kShapes; ++b) value += shapedirs(i, b) * shape[b];
     J[i / 3][i % 3] = value;
   }
-  T G_R[kBodyJointCount][9];  // row-major world rotation of each joint
   for (int j = 0; j < kBodyJointCount; ++j) {
     T R[9];
     ceres::AngleAxisToRotationMatrix(j == 0 ? root : body + 3 * (j - 1), ceres::RowMajorAdapter3x3(R));
@@ -103,11 +90,23 @@ void forwardKinematics(const Eigen::Matrix<double, 3 * kBodyJointCount, 1>& rest
   }
 }
 
+// Where a keypoint lies on the posed body: its joint plus the link's offset, which turns with the
+// bone that ends at the joint (the parent's rotation).
+template <typename T>
+void keypointPoint(const T joints[kBodyJointCount][3], const T G_R[kBodyJointCount][9], int joint,
+                   const std::array<double, 3>& offset, T point[3]) {
+  const T* R = G_R[std::max(0, kBodyJointParents[joint])];
+  for (int r = 0; r < 3; ++r) {
+    point[r] = joints[joint][r] + R[3 * r] * offset[0] + R[3 * r + 1] * offset[1] + R[3 * r + 2] * offset[2];
+  }
+}
+
 // The data terms: reprojection of each linked keypoint (2 residuals) and its depth (1 residual),
 // computed from one forward kinematics per evaluation. Unused keypoints have weight 0.
 struct DataTerm {
   struct Keypoint {
     int joint = -1;
+    std::array<double, 3> offset{};  // the keypoint relative to the joint (CocoJointLink::offset)
     double u = 0, v = 0;
     double weight_2d = 0;     // 0 = not used
     double depth = 0;         // target z of the joint (surface + depth below it); used if weight_depth > 0
@@ -123,12 +122,14 @@ struct DataTerm {
     using std::abs;
     using std::sqrt;
     T joints[kBodyJointCount][3];
-    forwardKinematics(*rest, *shapedirs, root, translation, body, shape, joints);
+    T G_R[kBodyJointCount][9];
+    forwardKinematics(*rest, *shapedirs, root, translation, body, shape, joints, G_R);
     for (int k = 0; k < kCocoKeypointCount; ++k) {
       const Keypoint& kp = keypoints[k];
       residuals[2 * k] = residuals[2 * k + 1] = residuals[kResiduals2d + k] = T(0);
       if (kp.joint < 0) continue;
-      const T* p = joints[kp.joint];
+      T p[3];
+      keypointPoint(joints, G_R, kp.joint, kp.offset, p);
       if (kp.weight_2d > 0) {
         // A joint behind or at the camera would divide by ~0: clamp its depth; the other terms
         // bring it back in front.
@@ -232,18 +233,43 @@ BodyFitter::BodyFitter(const BodyModel& model, const Options& options) : model_(
   if (!ok) throw Error("BodyFitter: an option is out of range (weights >= 0, iterations >= 1, radius > 0)");
 }
 
-std::array<Eigen::Vector3d, kBodyJointCount> BodyFitter::posedJoints(const BodyParameters& parameters) const {
+// The posed joints and each joint's rotation (row-major) for parameters, by the fitter's kinematics.
+struct BodyFitter::Posed {
+  double joints[kBodyJointCount][3];
+  double rotations[kBodyJointCount][9];
+};
+
+BodyFitter::Posed BodyFitter::pose(const BodyParameters& parameters) const {
   std::array<double, kBodyPoseSize> body;
   for (int j = 1; j < kBodyJointCount; ++j) {
     for (int k = 0; k < 3; ++k) body[3 * (j - 1) + k] = parameters.pose[j][k];
   }
   std::array<double, kShapes> shape{};
   for (int b = 0; b < std::min<int>(kShapes, parameters.shape.size()); ++b) shape[b] = parameters.shape[b];
-  double joints[kBodyJointCount][3];
+  Posed posed;
   forwardKinematics(rest_joints_, joint_shapedirs_, parameters.pose[0].data(), parameters.translation.data(),
-                    body.data(), shape.data(), joints);
+                    body.data(), shape.data(), posed.joints, posed.rotations);
+  return posed;
+}
+
+std::array<Eigen::Vector3d, kBodyJointCount> BodyFitter::posedJoints(const BodyParameters& parameters) const {
+  const Posed posed = pose(parameters);
   std::array<Eigen::Vector3d, kBodyJointCount> out;
-  for (int j = 0; j < kBodyJointCount; ++j) out[j] = {joints[j][0], joints[j][1], joints[j][2]};
+  for (int j = 0; j < kBodyJointCount; ++j) out[j] = {posed.joints[j][0], posed.joints[j][1], posed.joints[j][2]};
+  return out;
+}
+
+std::array<Eigen::Vector3d, kCocoKeypointCount> BodyFitter::keypointPoints(const BodyParameters& parameters) const {
+  const Posed posed = pose(parameters);
+  std::array<Eigen::Vector3d, kCocoKeypointCount> out;
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    const CocoJointLink& link = kCocoToBodyJoint[k];
+    out[k].setConstant(std::numeric_limits<double>::quiet_NaN());
+    if (link.joint < 0) continue;
+    const std::array<double, 3> none{};
+    keypointPoint(posed.joints, posed.rotations, link.joint, options_.keypoint_offsets ? link.offset : none,
+                  out[k].data());
+  }
   return out;
 }
 
@@ -430,7 +456,7 @@ void BodyFitter::initialPosition(const BodyFitInput& input, const Observations& 
   }
   const Eigen::Vector2d pelvis_px = seen.hips ? Eigen::Vector2d(0.5 * (kp[11].u + kp[12].u), 0.5 * (kp[11].v + kp[12].v))
                                               : Eigen::Vector2d(0.5 * (u0 + u1), 0.5 * (v0 + v1));
-  double z = seen.mean_depth > 0 ? seen.mean_depth + jointDepthBelowSurface(1) : 0.0;
+  double z = seen.mean_depth > 0 ? seen.mean_depth + kCocoToBodyJoint[11].depth_below_surface : 0.0;
   if (z <= 0) {
     const Eigen::Vector3d rest_torso = 0.5 * (rest_joints_.segment<3>(3 * 16) + rest_joints_.segment<3>(3 * 17)) -
                                        0.5 * (rest_joints_.segment<3>(3 * 1) + rest_joints_.segment<3>(3 * 2));
@@ -462,11 +488,12 @@ ceres::CostFunction* BodyFitter::dataTerm(const BodyFitInput& input, const Obser
     if (torso_only && !(joint == 15 || joint == 16 || joint == 17 || joint == 1 || joint == 2)) continue;
     DataTerm::Keypoint& t = term->keypoints[k];
     t.joint = joint;
+    if (options_.keypoint_offsets) t.offset = kCocoToBodyJoint[k].offset;
     t.u = input.keypoints[k].u;
     t.v = input.keypoints[k].v;
     t.weight_2d = options_.weight_2d * std::sqrt(std::min(1.0, input.keypoints[k].confidence) * kCocoToBodyJoint[k].weight);
     if (seen.surface[k] > 0) {
-      t.depth = seen.surface[k] + jointDepthBelowSurface(joint);
+      t.depth = seen.surface[k] + kCocoToBodyJoint[k].depth_below_surface;
       t.weight_depth = options_.weight_depth * std::sqrt(kCocoToBodyJoint[k].weight);
     }
   }

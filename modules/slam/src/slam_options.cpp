@@ -171,6 +171,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.warm_start_gap", &b.warm_start_gap, 0.0, 10.0, "seconds", "an older fit is not a warm start");
   s.number("bodies.weight_temporal", &b.weight_temporal, 0.0, 100.0, "", "pull towards the previous fit's pose");
   s.boolean("bodies.asynchronous", &b.asynchronous, "fits in their own thread; false: in the front end (repeatable)");
+  s.boolean("bodies.keypoint_offsets", &b.fitter.keypoint_offsets,
+            "COCO keypoints lie beside their joints as measured for MoveNet (hips, shoulders, ankles 2-3 cm up the "
+            "bone); false: at the joints");
   s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");

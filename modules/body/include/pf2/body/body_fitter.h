@@ -32,11 +32,19 @@ extern const std::array<const char*, kCocoKeypointCount> kCocoKeypointNames;
 struct CocoJointLink {
   int joint;      // body joint (SMPL order) the keypoint observes; -1 = not used
   double weight;  // weight of its reprojection term relative to the limb keypoints
+  // Where the keypoint lies relative to the joint (m), in the frame of the bone ending at the
+  // joint (the parent joint's frame; body axes in the rest pose: x left, y up, z forward).
+  std::array<double, 3> offset;
+  // How far behind the visible surface around the keypoint the keypoint's point lies (m): the depth
+  // term's target is that surface's depth plus this.
+  double depth_below_surface;
 };
 // nose -> head (1); eyes unused (the head joint sits behind them and they add no constraint the
-// nose does not); ears -> head (0.5 each: their mean is about the head joint); shoulders, elbows,
-// wrists, hips, knees, ankles -> the SMPL joint of the same name (1). COCO's hips sit a few
-// centimetres higher and wider than SMPL's hip joints; that offset is not modelled.
+// nose does not); ears -> head (0.5 each); shoulders, elbows, wrists, hips, knees, ankles -> the
+// SMPL joint of the same name (1). Offsets and depths below the surface are MoveNet's keypoints
+// against the body model's joints, measured on a pf2_synth sequence (median over 200 views each;
+// docs/body.md "Where MoveNet's keypoints lie"): hips 2.6 cm up the pelvis, shoulders 1.8 cm,
+// ankles 2.8 cm up the shin, ears 4.8 cm to the side of the head joint.
 extern const std::array<CocoJointLink, kCocoKeypointCount> kCocoToBodyJoint;
 
 // A keypoint in pixels with a confidence in [0, 1]; confidence 0 (or a non-finite value) = missing.
@@ -89,6 +97,8 @@ class BodyFitter {
     double weight_depth = 150.0;
     double depth_delta = 0.05;       // m, Huber threshold of the depth residual
     double depth_radius_px = 4.0;    // pixels around a keypoint whose points count
+    // Keypoints lie at their joint plus CocoJointLink::offset (true) or at the joint itself.
+    bool keypoint_offsets = true;
     // Pose prior: zero-mean quadratic on the axis-angle of joints 1..23 (radians), residual =
     // weight_pose * scale_j * angle, scale_j 1 for limbs, 3 for spine/neck/collars/feet/hands (not
     // seen by COCO keypoints). Joint limits: knees and elbows only bend one way (a one-sided penalty
@@ -116,6 +126,10 @@ class BodyFitter {
 
   // Posed joints of parameters (the same as model.evaluate(p).joints without skinning the mesh).
   std::array<Eigen::Vector3d, kBodyJointCount> posedJoints(const BodyParameters& parameters) const;
+  // Where the fitter expects each COCO keypoint of a body with these parameters: its joint plus
+  // the link's offset (Options::keypoint_offsets); NaN for keypoints without a joint. Project them
+  // to make exact keypoints. Thread safe (const).
+  std::array<Eigen::Vector3d, kCocoKeypointCount> keypointPoints(const BodyParameters& parameters) const;
 
   const Options& options() const { return options_; }
 
@@ -123,6 +137,8 @@ class BodyFitter {
   // The steps of fit() (the .cpp says what each does); ceres types stay out of this header.
   struct Observations;
   struct Variables;
+  struct Posed;
+  Posed pose(const BodyParameters& parameters) const;
   Observations observe(const BodyFitInput& input, const CameraIntrinsics& K, BodyFitResult* result) const;
   bool warmStart(const BodyParameters& previous, Variables* x) const;
   void initialOrientation(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
