@@ -64,25 +64,6 @@ void splitSharedComponent(const cv::Mat& mask, const PersonBox& box, const std::
   }
 }
 
-// How far from its mask a keypoint may lie and still count as on it (pixels): keypoints of wrists
-// and ankles sit at the silhouette's edge, and the mask is a 256 x 256 network's, scaled up.
-constexpr int kKeypointReach = 8;
-
-// Whether at least min_fraction of the pose's confident keypoints lie on (near) the mask.
-bool maskHoldsPose(const cv::Mat& mask, const PersonDetection& pose, float min_score, float min_fraction) {
-  const cv::Rect image(0, 0, mask.cols, mask.rows);
-  int confident = 0, on_mask = 0;
-  for (const Keypoint2d& k : pose.keypoints) {
-    if (k.score < min_score) continue;
-    ++confident;
-    const cv::Point at(cvRound(k.u), cvRound(k.v));
-    const cv::Rect near = cv::Rect(at.x - kKeypointReach, at.y - kKeypointReach, 2 * kKeypointReach + 1,
-                                   2 * kKeypointReach + 1) & image;
-    if (!near.empty() && cv::countNonZero(mask(near)) > 0) ++on_mask;
-  }
-  return confident > 0 && on_mask >= min_fraction * confident;
-}
-
 }  // namespace
 
 std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
@@ -129,8 +110,7 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
 
   for (size_t i = 0; i < poses.size(); ++i) {
     PersonDetection person = poses[i];
-    if (cv::countNonZero(pose_masks[i]) > 0 &&
-        maskHoldsPose(pose_masks[i], poses[i], options.keypoint_min_score, options.min_keypoints_on_mask)) {
+    if (cv::countNonZero(pose_masks[i]) > 0) {
       person.mask = pose_masks[i];
       // The box must cover the mask the filter removes, and the body parts the mask missed.
       const cv::Rect r = cv::boundingRect(pose_masks[i]);
@@ -147,8 +127,6 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
 LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(options) {
   if (options_.pose_every < 1) throw Error("learned detector: pose_every must be at least 1");
   if (options_.min_pose_keypoints < 1) throw Error("learned detector: min_pose_keypoints must be at least 1");
-  if (!(options_.min_keypoints_on_mask >= 0.f && options_.min_keypoints_on_mask <= 1.f))
-    throw Error("learned detector: learned.min_on_mask must lie in 0 .. 1");
   selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
   movenet_ = std::make_unique<MoveNetDetector>(options_.movenet);
 }

@@ -55,28 +55,6 @@ TEST(CombineMasksAndPoses, SplitsASharedComponentByNearestKeypoint) {
   EXPECT_NEAR(people[0].score, 0.8f, 1e-6f);
 }
 
-// A person the selfie model missed (no mask of their own) whose claim reaches a neighbour's arm
-// gets no mask rather than that sliver: none of their keypoints lie on it. The neighbour keeps
-// their mask; with the rule off the sliver goes to the missed person, as before.
-TEST(CombineMasksAndPoses, ASliverHoldingNoneOfAPosesKeypointsIsNotItsMask) {
-  cv::Mat mask(kH, kW, CV_8U, cv::Scalar(0));
-  cv::rectangle(mask, cv::Rect(20, 10, 50, 80), cv::Scalar(255), cv::FILLED);  // the neighbour's body
-  cv::rectangle(mask, cv::Rect(70, 40, 12, 6), cv::Scalar(255), cv::FILLED);   // their arm, pointing right
-  const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.8));
-  LearnedPersonDetector::Options options;  // box_margin 0.1: the second claim starts at x 72.5
-  const std::vector<PersonDetection> poses = {pose(20, 70, 45), pose(80, 160, 120)};
-  std::vector<PersonDetection> people = combineMasksAndPoses({component(mask)}, poses, probability, options);
-  ASSERT_EQ(people.size(), 2u);
-  EXPECT_TRUE(people[1].mask.empty());
-  EXPECT_FLOAT_EQ(people[1].box.x_ul, 80.f);  // the pose's own box
-  EXPECT_GE(cv::countNonZero(people[0].mask), 50 * 80);
-  options.min_keypoints_on_mask = 0.f;
-  people = combineMasksAndPoses({component(mask)}, poses, probability, options);
-  ASSERT_EQ(people.size(), 2u);
-  ASSERT_FALSE(people[1].mask.empty());
-  EXPECT_LE(cv::countNonZero(people[1].mask), 12 * 6);
-}
-
 // The selfie model marks blurred or plain scenes as "person", so a mask no confident pose
 // supports is dropped; a confident pose over no mask stays a box; a weak pose is no person.
 TEST(CombineMasksAndPoses, DropsUnsupportedMasksAndWeakPosesKeepsMasklessPoses) {

@@ -8,8 +8,7 @@
 // pixel by pixel to the person with the nearest confident keypoint, which separates touching people
 // better than the mask alone. Components no person touches are dropped; a component larger than
 // max_component_fraction of the image is cut to the boxes of the people touching it. People with no
-// mask under them, or whose share of the mask holds too few of their keypoints, stay as boxes
-// without a mask. A person's score is the mean mask probability when
+// mask under them stay as boxes without a mask. A person's score is the mean mask probability when
 // it has a mask, MoveNet's score otherwise. Components no person touches (and not implausibly
 // large) are handed on as Detections::candidates.
 #include <memory>
@@ -40,12 +39,6 @@ class LearnedPersonDetector : public HumanDetector {
     // A mask component larger than this fraction of the image is cut to the claimed boxes of the
     // people touching it (blur and plain walls make whole-image components).
     double max_component_fraction = 0.6;
-    // A pose keeps its share of the mask only when at least this fraction of its confident
-    // keypoints lie on it (within kKeypointReach pixels); else it stays a box without a mask. The
-    // selfie model misses small or seated people that MoveNet finds, and such a person's claim may
-    // then take only a sliver of a neighbour's mask, whose depth would stand for the person's
-    // (pf2_synth: a seated person's interval became the nearer neighbour's, so her depth stayed).
-    float min_keypoints_on_mask = 0.5f;
     float max_motion = 32.f;            // largest image motion of a person between frames, pixels
   };
 
