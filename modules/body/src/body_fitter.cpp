@@ -109,7 +109,7 @@ struct DataTerm {
     std::array<double, 3> offset{};  // the keypoint relative to the joint (CocoJointLink::offset)
     double u = 0, v = 0;
     double weight_2d = 0;     // 0 = not used
-    double depth = 0;         // target z of the joint (surface + depth below it); used if weight_depth > 0
+    double depth = 0;         // target z of the keypoint's point (surface + depth below it); if weight_depth > 0
     double weight_depth = 0;
   };
   const Eigen::Matrix<double, 3 * kBodyJointCount, 1>* rest;
