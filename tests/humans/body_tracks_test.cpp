@@ -77,7 +77,7 @@ TEST(BodyTrackAssembler, PlacesAFitByEq4WithTheFinalKeyframePose) {
   PersonSighting seen = sightingAt(0, 10.0, Eigen::Vector3d(0.2, 0.1, 2.4), 3);
   seen.T_k_c = T_k_c;
   const BodyTrackAssembler assembler(model(), noSmoothing());
-  const std::vector<BodyTrack> tracks = assembler.assemble({seen}, {fit}, {{3, T_w_k}});
+  const std::vector<BodyTrack> tracks = assembler.assemble({seen}, {fit}, {{3, T_w_k}}, CameraIntrinsics());
   ASSERT_EQ(tracks.size(), 1u);
   ASSERT_EQ(tracks[0].frames.size(), 1u);
   const BodyTrackFrame& frame = tracks[0].frames[0];
@@ -98,7 +98,8 @@ TEST(BodyTrackAssembler, PlacesAFitByEq4WithTheFinalKeyframePose) {
 // Between two fits the pelvis moves linearly and the joints rotate halfway (slerp); before the
 // first fit and after the last the body is the nearest fit's, moved with the eq. 2 centre, however
 // far that fit is (the centre alone lies on the visible side of the body: a seated person's
-// centre is a quarter metre above the pelvis).
+// centre is a quarter metre above the pelvis). The placement by the visible centre, which differs
+// where the body is cut by the image border, is tested in visible_centre_test.cpp.
 TEST(BodyTrackAssembler, InterpolatesBetweenFitsAndPlacesTheRest) {
   BodyParameters a = personInCamera(), b = personInCamera();
   b.pose[1] = Eigen::Vector3d(0.2, 0, 0);
@@ -106,9 +107,12 @@ TEST(BodyTrackAssembler, InterpolatesBetweenFitsAndPlacesTheRest) {
   const Eigen::Vector3d centre(0.2, 0.1, 2.4);
   std::vector<PersonSighting> seen;
   for (int f : {0, 3, 4, 5, 6, 80}) seen.push_back(sightingAt(f, 0.1 * f, centre + Eigen::Vector3d(0.01 * f, 0, 0)));
-  const BodyTrackAssembler assembler(model(), noSmoothing());
+  BodyTrackAssembler::Options options = noSmoothing();
+  options.visible_centre = false;
+  const BodyTrackAssembler assembler(model(), options);
   const std::vector<BodyTrack> tracks =
-      assembler.assemble(seen, {fitAt(4, 0.4, a), fitAt(6, 0.6, b)}, {{0, Eigen::Isometry3d::Identity()}});
+      assembler.assemble(seen, {fitAt(4, 0.4, a), fitAt(6, 0.6, b)}, {{0, Eigen::Isometry3d::Identity()}},
+                         CameraIntrinsics());
   ASSERT_EQ(tracks.size(), 1u);
   const std::vector<BodyTrackFrame>& frames = tracks[0].frames;
   ASSERT_EQ(frames.size(), 6u);
@@ -135,7 +139,7 @@ TEST(BodyTrackAssembler, APersonWithoutFitsStandsAtTheCentre) {
   const BodyTrackAssembler assembler(model(), noSmoothing());
   const std::vector<BodyTrack> tracks =
       assembler.assemble({sightingAt(0, 0.0, centre), sightingAt(1, 0.1, centre)}, {},
-                         {{0, Eigen::Isometry3d::Identity()}});
+                         {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
   ASSERT_EQ(tracks.size(), 1u);
   ASSERT_EQ(tracks[0].frames.size(), 2u);
   for (const BodyTrackFrame& frame : tracks[0].frames) {
@@ -158,7 +162,7 @@ TEST(BodyTrackAssembler, DropsAFitFarFromTheOthers) {
     fits.push_back(fitAt(f, 0.1 * f, f == 2 ? wrong : body));
   }
   const BodyTrackAssembler assembler(model(), noSmoothing());
-  const std::vector<BodyTrack> tracks = assembler.assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}});
+  const std::vector<BodyTrack> tracks = assembler.assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
   ASSERT_EQ(tracks[0].frames.size(), 5u);
   EXPECT_EQ(tracks[0].fits, 4);
   EXPECT_FALSE(tracks[0].frames[2].fitted);
@@ -178,7 +182,7 @@ TEST(BodyTracksJson, WritesAndReadsBackAndTheJointsFollowFromPoseAndShape) {
   }
   const std::vector<BodyTrack> tracks =
       BodyTrackAssembler(model(), BodyTrackAssembler::Options())
-          .assemble(seen, fits, {{0, cameraPose(0.3, Eigen::Vector3d(0.5, 0.2, -1))}});
+          .assemble(seen, fits, {{0, cameraPose(0.3, Eigen::Vector3d(0.5, 0.2, -1))}}, CameraIntrinsics());
   const std::string path = testing::TempDir() + "pf2_humans.json";
   writeBodyTracksJson(path, tracks);
   const std::vector<BodyTrack> read = readBodyTracksJson(path);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pf2/humans/visible_centre.h"
+
 namespace pf2 {
 
 namespace {
@@ -25,6 +27,10 @@ Eigen::VectorXd paddedShape(const Eigen::VectorXd& shape) {
   out.head(n) = shape.head(n);
   return out;
 }
+
+// Every n-th mesh vertex stands for the body's outline in VisibleCentre (the mesh's 13 380 vertices
+// lie about 1 cm apart; every 4th still covers each pixel cell at the usual distances).
+constexpr size_t kVertexStride = 4;
 
 // A person standing with the arms down, as eq. 4 places a person with no fit.
 BodyParameters standingBody(const Eigen::VectorXd& shape) {
@@ -64,7 +70,8 @@ std::vector<HumanTrack> pelvisTracks(const std::vector<BodyTrack>& bodies) {
 
 std::vector<BodyTrack> BodyTrackAssembler::assemble(const std::vector<PersonSighting>& sightings,
                                                     const std::vector<BodyTrackFit>& fits,
-                                                    const std::map<int, Eigen::Isometry3d>& keyframe_poses) const {
+                                                    const std::map<int, Eigen::Isometry3d>& keyframe_poses,
+                                                    const CameraIntrinsics& intrinsics) const {
   std::map<int, std::vector<const PersonSighting*>> seen;
   std::map<int, std::vector<const BodyTrackFit*>> fitted;
   for (const PersonSighting& s : sightings) seen[s.track_id].push_back(&s);
@@ -76,7 +83,7 @@ std::vector<BodyTrack> BodyTrackAssembler::assemble(const std::vector<PersonSigh
     std::vector<const BodyTrackFit*>& own = fitted[id];
     std::stable_sort(own.begin(), own.end(),
                      [](const BodyTrackFit* a, const BodyTrackFit* b) { return a->frame_index < b->frame_index; });
-    tracks.push_back(assembleTrack(id, list, own, keyframe_poses));
+    tracks.push_back(assembleTrack(id, list, own, keyframe_poses, intrinsics));
   }
   return tracks;
 }
@@ -129,9 +136,74 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
   fitted->resize(kept);
 }
 
+// What placing a track's frames by their visible centre needs: the track's fits in the world and
+// its sightings, the final keyframe poses, the image model, and per fit (made when first needed)
+// its mesh about its pelvis with the bias of its frame's measured centre from the modelled one.
+struct BodyTrackAssembler::Placement {
+  struct FitView {
+    bool valid = false;
+    std::vector<Eigen::Vector3d> relative_w;  // every kVertexStride-th vertex minus the pelvis
+    Eigen::Vector3d bias_c = Eigen::Vector3d::Zero();  // measured minus modelled centre, camera axes
+  };
+  const std::vector<BodyParameters>& bodies;
+  const std::vector<const BodyTrackFit*>& fitted;
+  const std::vector<const PersonSighting*>& seen;
+  const std::map<int, Eigen::Isometry3d>& keyframe_poses;
+  VisibleCentre image;
+  Eigen::Vector3d rest_pelvis;
+  std::map<size_t, FitView> views;
+
+  Eigen::Isometry3d T_w_c(const PersonSighting& s) const { return keyframe_poses.at(s.keyframe_id) * s.T_k_c; }
+  static std::vector<Eigen::Vector3d> rotated(const Eigen::Matrix3d& R, const std::vector<Eigen::Vector3d>& points) {
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(points.size());
+    for (const Eigen::Vector3d& p : points) out.push_back(R * p);
+    return out;
+  }
+};
+
+bool BodyTrackAssembler::pelvisByVisibleCentre(const PersonSighting& s, size_t nearest, const Eigen::Vector3d& start_w,
+                                               Placement* placement, Eigen::Vector3d* pelvis_w) const {
+  auto view = placement->views.find(nearest);
+  if (view == placement->views.end()) {
+    view = placement->views.emplace(nearest, Placement::FitView()).first;
+    Placement::FitView& made = view->second;
+    const BodyTrackFit& fit = *placement->fitted[nearest];
+    const auto own = std::find_if(placement->seen.begin(), placement->seen.end(),
+                                  [&](const PersonSighting* p) { return p->frame_index == fit.frame_index; });
+    if (own == placement->seen.end()) return false;
+    const BodyParameters& body = placement->bodies[nearest];
+    const Eigen::Vector3d pelvis = placement->rest_pelvis + body.translation;
+    const BodyMesh mesh = model_.evaluate(body);
+    for (size_t v = 0; v < mesh.vertices.size(); v += kVertexStride) {
+      made.relative_w.push_back(mesh.vertices[v].cast<double>() - pelvis);
+    }
+    // The fit's own frame: how far its measured centre lies from the one its body gives (the
+    // mask's edges, the depth interval, pixels against vertices), to be allowed for elsewhere.
+    const Eigen::Isometry3d T_w_c = placement->T_w_c(**own);
+    Eigen::Vector3d modelled;
+    if (!placement->image.centre(Placement::rotated(T_w_c.linear().transpose(), made.relative_w),
+                                 T_w_c.inverse() * pelvis, &modelled)) {
+      return false;
+    }
+    made.bias_c = (*own)->p_c - modelled;
+    made.valid = true;
+  }
+  if (!view->second.valid) return false;
+  const Eigen::Isometry3d T_w_c = placement->T_w_c(s);
+  Eigen::Vector3d pelvis_c;
+  if (!placement->image.pelvisFor(Placement::rotated(T_w_c.linear().transpose(), view->second.relative_w),
+                                  s.p_c - view->second.bias_c, T_w_c.inverse() * start_w, &pelvis_c)) {
+    return false;
+  }
+  *pelvis_w = T_w_c * pelvis_c;
+  return true;
+}
+
 BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
                                             std::vector<const BodyTrackFit*> fitted,
-                                            const std::map<int, Eigen::Isometry3d>& keyframe_poses) const {
+                                            const std::map<int, Eigen::Isometry3d>& keyframe_poses,
+                                            const CameraIntrinsics& intrinsics) const {
   BodyTrack track;
   track.id = id;
   track.shape = Eigen::VectorXd::Zero(BodyFitter::Options::kShapeCount);
@@ -152,6 +224,7 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     offsets.push_back(own != seen.end() ? Eigen::Vector3d(pelvis - centre_w(**own)) : Eigen::Vector3d::Zero());
   }
   dropOutlierFits(&bodies, &offsets, &fitted);
+  Placement placement{bodies, fitted, seen, keyframe_poses, VisibleCentre(intrinsics), rest_pelvis, {}};
   size_t next = 0;  // first fit at or after the current frame
   for (const PersonSighting* s : seen) {
     while (next < fitted.size() && fitted[next]->frame_index < s->frame_index) ++next;
@@ -167,7 +240,10 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     } else if (!fitted.empty()) {  // the nearest fit's pose, moved with the eq. 2 centre
       const size_t nearest = before <= after ? next - 1 : next;
       body = bodies[nearest];
-      placePelvis(centre_w(*s) + offsets[nearest], rest_pelvis, &body);
+      const Eigen::Vector3d by_offset = centre_w(*s) + offsets[nearest];
+      Eigen::Vector3d pelvis_w = by_offset;
+      if (options_.visible_centre) pelvisByVisibleCentre(*s, nearest, by_offset, &placement, &pelvis_w);
+      placePelvis(pelvis_w, rest_pelvis, &body);
     } else {
       body = standingBody(track.shape);
       const Eigen::Isometry3d T_w_h =

@@ -179,6 +179,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");
   s.number("bodies.max_offset_deviation", &o.body_tracks.max_offset_deviation, 0.01, 10.0, "metres",
            "a fit whose pelvis is further from where the person's other fits lie (relative to the eq. 2 centre) is dropped");
+  s.boolean("bodies.visible_centre", &o.body_tracks.visible_centre,
+            "a person far from any fit is placed where the nearest fit's body gives their eq. 2 centre in the image "
+            "(the part inside it only); false: at the centre plus the fit's offset");
   s.integer("bodies.scene_every", &o.scene.bodies_every, 0, 100000, "frames",
             "scene.ply/.obj also show every n-th body along each track (0 = the last fitted body only)");
 }

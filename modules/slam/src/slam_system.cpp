@@ -175,6 +175,7 @@ class SlamSystem::Pipeline {
         feedMap(frame, static_frame.depth, result, summary_.frames);
       out = frameResult(frame, static_frame.depth, filtered.removed, result, record, std::move(people));
       records_.push_back(std::move(record));
+      intrinsics_ = frame.intrinsics;
       ++summary_.frames;
     }
     last_frame_end_ = std::chrono::steady_clock::now();
@@ -208,7 +209,8 @@ class SlamSystem::Pipeline {
     if (body_fitter_) {
       // Tracks follow the bodies' pelvis where there is a fit, the eq. 2 centre otherwise.
       const BodyTrackAssembler assembler(*body_model_, options_.body_tracks);
-      result.bodies = assembler.assemble(personSightings(records_), relabelled(body_fitter_->finish()), keyframe_poses);
+      result.bodies = assembler.assemble(personSightings(records_), relabelled(body_fitter_->finish()), keyframe_poses,
+                                         intrinsics_);
       result.body_model = body_model_;
       result.scene = options_.scene;
       result.humans = pelvisTracks(result.bodies);
@@ -400,6 +402,7 @@ class SlamSystem::Pipeline {
   std::chrono::steady_clock::time_point first_frame_, last_frame_end_;
   std::unique_ptr<MappingThread> mapping_;  // declared after what it uses: stopped first
   std::vector<FrameRecord> records_;
+  CameraIntrinsics intrinsics_;  // the frames' camera (the bodies' placement at the end models its image)
   MotionGuess guess_;  // where the next frame is expected, for the filter
 };
 

@@ -7,7 +7,11 @@
 //     slerped joint by joint, the pelvis moved linearly);
 //   - any other frame: the nearest fit's pose at the person's eq. 2 centre, shifted by the offset
 //     between that fit's pelvis and its own frame's centre (the centre lies on the side of the
-//     body the camera sees, and high on a seated person: it is no pelvis by itself);
+//     body the camera sees, and high on a seated person: it is no pelvis by itself); with
+//     visible_centre, moved on until the eq. 2 centre that body gives in this frame's image
+//     (VisibleCentre: the part inside the image only) is the measured one, less what the fit's own
+//     frame measured beside its body's modelled centre: a person cut by the image border has their
+//     centre on the part still in view, and the fixed offset misses the pelvis by 20-30 cm there;
 //   - a person with no fit at all: a standing body (arms down) placed by eq. 4 at the eq. 2 centre.
 // A fit far from where the track's other fits lie relative to their eq. 2 centres is dropped first
 // (max_offset_deviation). Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
@@ -62,20 +66,31 @@ class BodyTrackAssembler {
     // to the eq. 2 centre (the median offset of its fits) is dropped as a wrong fit (a person
     // partly hidden by another, keypoints of two people mixed). [0.01, 10] m
     double max_offset_deviation = 0.25;
+    // Frames beyond max_gap from any fit place the nearest fit's body by the eq. 2 centre it would
+    // give in the image (true) or by the centre plus the fit's offset (false).
+    bool visible_centre = true;
   };
 
   // The model must outlive the assembler.
   BodyTrackAssembler(const BodyModel& model, const Options& options) : model_(model), options_(options) {}
 
   // sightings: every frame each person was seen in (with a pose); fits: BodyTrackFitter::finish();
-  // keyframe_poses: the final T_w_k of every keyframe. Tracks in id order. Thread safe (const).
+  // keyframe_poses: the final T_w_k of every keyframe; intrinsics: the frames' camera. Tracks in id
+  // order. Thread safe (const).
   std::vector<BodyTrack> assemble(const std::vector<PersonSighting>& sightings, const std::vector<BodyTrackFit>& fits,
-                                  const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
+                                  const std::map<int, Eigen::Isometry3d>& keyframe_poses,
+                                  const CameraIntrinsics& intrinsics) const;
 
  private:
+  struct Placement;
   BodyTrack assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
                           std::vector<const BodyTrackFit*> fitted,
-                          const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
+                          const std::map<int, Eigen::Isometry3d>& keyframe_poses,
+                          const CameraIntrinsics& intrinsics) const;
+  // The pelvis (world) of fit `nearest`'s body in sighting s, by the eq. 2 centre it gives in s's
+  // image (Options::visible_centre); false when that fails (see the .cpp).
+  bool pelvisByVisibleCentre(const PersonSighting& s, size_t nearest, const Eigen::Vector3d& start_w,
+                             Placement* placement, Eigen::Vector3d* pelvis_w) const;
   void dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
                        std::vector<const BodyTrackFit*>* fitted) const;
   BodyParameters fitInWorld(const BodyTrackFit& fit, const Eigen::VectorXd& shape,

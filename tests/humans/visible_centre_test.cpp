@@ -1,0 +1,157 @@
+// VisibleCentre against the eq. 2 centre of a rendered body (pf2_synth's rasteriser: triangles, a
+// z-buffer, the box and mean depth of the person's pixels, as pf2_slam takes them).
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "pf2/body/body_model.h"
+#include "pf2/core/error.h"
+#include "pf2/humans/body_tracks.h"
+#include "pf2/humans/human_position.h"
+#include "pf2/humans/visible_centre.h"
+#include "pf2/synth/rasterizer.h"
+
+namespace pf2 {
+namespace {
+
+const BodyModel& model() {
+  static const BodyModel loaded = BodyModel::loadDefault();
+  return loaded;
+}
+
+CameraIntrinsics camera() { return CameraIntrinsics::tumFreiburg3().scaled(0.5); }
+
+// Upright in the camera (y down), turned a little, one arm out, the other down; pelvis at pelvis_c.
+BodyParameters body(const Eigen::Vector3d& pelvis_c) {
+  BodyParameters b;
+  b.shape[0] = 0.4;
+  b.pose[0] = Eigen::Vector3d(M_PI, 0, 0) + Eigen::Vector3d(0, 0.4, 0);
+  b.pose[16] = Eigen::Vector3d(0, 0, -0.3);
+  b.pose[17] = Eigen::Vector3d(0, 0, 1.2);
+  b.pose[1] = Eigen::Vector3d(-0.3, 0, 0);
+  b.translation = pelvis_c - model().posedJoints(b)[0];
+  return b;
+}
+
+// Eq. 2 as pf2_slam takes it from a depth image: the box of the person's pixels, at their mean depth.
+bool renderedCentre(const BodyParameters& b, Eigen::Vector3d* centre_c) {
+  const BodyMesh mesh = model().evaluate(b);
+  RenderMesh person;
+  person.vertices = mesh.vertices;
+  person.triangles = mesh.triangles;
+  person.colors.assign(mesh.vertices.size(), Eigen::Vector3f(0.5f, 0.5f, 0.5f));
+  person.label = 1;
+  person.computeVertexNormals();
+  Rasterizer::Options options;
+  options.parallel = false;
+  RenderedImages images;
+  Rasterizer(options).render({&person}, {}, camera(), Eigen::Isometry3d::Identity(), &images);
+  const cv::Mat on_person = images.labels == 1;
+  if (cv::countNonZero(on_person) == 0) return false;
+  const cv::Rect box = cv::boundingRect(on_person);
+  *centre_c = humanCentreInCamera(box.x, box.y, box.x + box.width - 1, box.y + box.height - 1,
+                                  cv::mean(images.depth, on_person)[0], camera());
+  return true;
+}
+
+std::vector<Eigen::Vector3d> aboutPelvis(const BodyParameters& b) {
+  const BodyMesh mesh = model().evaluate(b);
+  std::vector<Eigen::Vector3d> relative;
+  for (size_t v = 0; v < mesh.vertices.size(); v += 4) relative.push_back(mesh.vertices[v].cast<double>() - mesh.joints[0]);
+  return relative;
+}
+
+// A person in full view gives the offset between their pelvis and their eq. 2 centre (and the
+// bias of the rendered centre from the modelled one); 1.4 m to the left at 2.5 m, most of them
+// is beyond the image's left border. Their centre plus that offset misses the pelvis by
+// decimetres; VisibleCentre finds it.
+TEST(VisibleCentre, FindsThePelvisOfAPersonCutByTheImageBorder) {
+  const VisibleCentre image(camera());
+  const Eigen::Vector3d in_view(0.1, 0.1, 2.5), cut(-1.4, 0.1, 2.5);
+  const std::vector<Eigen::Vector3d> relative = aboutPelvis(body(in_view));
+  Eigen::Vector3d rendered_in_view, modelled_in_view, rendered_cut;
+  ASSERT_TRUE(renderedCentre(body(in_view), &rendered_in_view));
+  ASSERT_TRUE(image.centre(relative, in_view, &modelled_in_view));
+  ASSERT_TRUE(renderedCentre(body(cut), &rendered_cut));
+  const Eigen::Vector3d bias = rendered_in_view - modelled_in_view;
+  EXPECT_LT(bias.norm(), 0.03) << "vertices and rendered pixels give about the same centre";
+
+  const Eigen::Vector3d by_offset = rendered_cut + (in_view - rendered_in_view);
+  Eigen::Vector3d found(9, 9, 9);
+  ASSERT_TRUE(image.pelvisFor(relative, rendered_cut - bias, by_offset, &found));
+  std::printf("pelvis of the cut person: centre + offset misses by %.3f m, VisibleCentre by %.3f m\n",
+              (by_offset - cut).norm(), (found - cut).norm());
+  EXPECT_GT((by_offset - cut).norm(), 0.15);
+  EXPECT_LT((found - cut).norm(), 0.04);
+}
+
+// In full view the centre moves with the body: one step finds the pelvis from anywhere near.
+TEST(VisibleCentre, InFullViewTheCentreMovesWithTheBody) {
+  const VisibleCentre image(camera());
+  const Eigen::Vector3d pelvis(0.2, 0.0, 3.0);
+  const std::vector<Eigen::Vector3d> relative = aboutPelvis(body(pelvis));
+  Eigen::Vector3d centre, moved_centre, found;
+  ASSERT_TRUE(image.centre(relative, pelvis, &centre));
+  ASSERT_TRUE(image.centre(relative, pelvis + Eigen::Vector3d(0.1, -0.05, 0.2), &moved_centre));
+  EXPECT_LT((moved_centre - centre - Eigen::Vector3d(0.1, -0.05, 0.2)).norm(), 0.02);
+  ASSERT_TRUE(image.pelvisFor(relative, centre, pelvis + Eigen::Vector3d(-0.3, 0.1, 0.4), &found));
+  EXPECT_LT((found - pelvis).norm(), 0.005);
+}
+
+TEST(VisibleCentre, ABodyOutOfViewHasNoCentreAndLeavesThePelvisAlone) {
+  const VisibleCentre image(camera());
+  const std::vector<Eigen::Vector3d> relative = aboutPelvis(body(Eigen::Vector3d(0, 0, 2.5)));
+  Eigen::Vector3d centre(1, 2, 3), pelvis(4, 5, 6);
+  EXPECT_FALSE(image.centre(relative, Eigen::Vector3d(6, 0, 2.5), &centre));
+  EXPECT_FALSE(image.centre(relative, Eigen::Vector3d(0, 0, -3), &centre));
+  EXPECT_EQ(centre, Eigen::Vector3d(1, 2, 3));
+  EXPECT_FALSE(image.pelvisFor(relative, Eigen::Vector3d(0, 0, 2.5), Eigen::Vector3d(6, 0, 2.5), &pelvis));
+  EXPECT_EQ(pelvis, Eigen::Vector3d(4, 5, 6));
+}
+
+// pf2_slam's end of run: a person fitted in full view, seen again 2 s later (beyond max_gap) with
+// most of them beyond the image border, same pose. Their body is placed where its visible part
+// gives the centre measured then; by the centre plus the fit's offset it would be decimetres off.
+TEST(VisibleCentre, PlacesAPersonCutByTheBorderLongAfterTheirFit) {
+  const Eigen::Vector3d in_view(0.1, 0.1, 2.5), cut(-1.4, 0.1, 2.5);
+  Eigen::Isometry3d T_w_k = Eigen::Isometry3d::Identity();
+  T_w_k.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.1, 1, 0.2).normalized()).toRotationMatrix();
+  T_w_k.translation() = Eigen::Vector3d(1, -0.5, 2);
+  std::vector<PersonSighting> seen(2);
+  ASSERT_TRUE(renderedCentre(body(in_view), &seen[0].p_c));
+  ASSERT_TRUE(renderedCentre(body(cut), &seen[1].p_c));
+  for (PersonSighting& s : seen) s.keyframe_id = 0;
+  seen[1].frame_index = 60;
+  seen[1].timestamp = 2.0;
+  BodyTrackFit fit;
+  fit.keyframe_id = 0;
+  fit.body_c = body(in_view);
+  for (const bool by_visible_centre : {true, false}) {
+    BodyTrackAssembler::Options options;
+    options.smoothing_sigma = 0;
+    options.visible_centre = by_visible_centre;
+    const std::vector<BodyTrack> tracks =
+        BodyTrackAssembler(model(), options).assemble(seen, {fit}, {{0, T_w_k}}, camera());
+    ASSERT_EQ(tracks.size(), 1u);
+    ASSERT_EQ(tracks[0].frames.size(), 2u);
+    const double miss = (tracks[0].frames[1].pelvis_w - T_w_k * cut).norm();
+    std::printf("cut person placed %s: %.3f m from the pelvis\n", by_visible_centre ? "by the visible centre" : "by the offset", miss);
+    if (by_visible_centre) EXPECT_LT(miss, 0.04);
+    else EXPECT_GT(miss, 0.15);
+    EXPECT_LT((tracks[0].frames[0].pelvis_w - T_w_k * in_view).norm(), 1e-6) << "the fit itself stays";
+  }
+}
+
+TEST(VisibleCentre, RefusesOptionsOutOfRange) {
+  VisibleCentre::Options options;
+  options.cell_px = 0;
+  EXPECT_THROW(VisibleCentre(camera(), options), Error);
+  options = VisibleCentre::Options();
+  options.max_move = 0;
+  EXPECT_THROW(VisibleCentre(camera(), options), Error);
+  CameraIntrinsics no_size = camera();
+  no_size.width = 0;
+  EXPECT_THROW(VisibleCentre{no_size}, Error);
+}
+
+}  // namespace
+}  // namespace pf2
