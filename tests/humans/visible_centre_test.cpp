@@ -141,6 +141,50 @@ TEST(VisibleCentre, PlacesAPersonCutByTheBorderLongAfterTheirFit) {
   }
 }
 
+// A wrong fit is dropped by how far its pelvis lies from the eq. 2 centre compared with the
+// track's other fits; for a person cut by the image border that offset is no guide (their centre
+// lies on the part in view), so such a fit is judged by how far the measured centre lies from the
+// one its body gives. Three fits in full view, a right fit of the person mostly beyond the border
+// and a wrong one (half a metre too deep) there: the right one is kept only with visible_centre.
+TEST(VisibleCentre, ARightFitOfAPersonCutByTheBorderIsKept) {
+  const Eigen::Vector3d cut(-1.55, 0.1, 2.5);
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  const auto add = [&](const Eigen::Vector3d& pelvis_seen, const Eigen::Vector3d& pelvis_fitted) {
+    PersonSighting s;
+    s.frame_index = static_cast<int>(seen.size());
+    s.timestamp = 0.1 * s.frame_index;
+    s.keyframe_id = 0;
+    ASSERT_TRUE(renderedCentre(body(pelvis_seen), &s.p_c));
+    BodyTrackFit fit;
+    fit.frame_index = s.frame_index;
+    fit.timestamp = s.timestamp;
+    fit.keyframe_id = 0;
+    fit.body_c = body(pelvis_fitted);
+    seen.push_back(s);
+    fits.push_back(fit);
+  };
+  for (const double x : {0.0, 0.1, 0.2}) add(Eigen::Vector3d(x, 0.1, 2.5), Eigen::Vector3d(x, 0.1, 2.5));
+  add(cut, cut);
+  add(cut, cut + Eigen::Vector3d(0, 0, 0.5));
+  Eigen::Vector3d rendered_whole, rendered_cut;
+  ASSERT_TRUE(renderedCentre(body(Eigen::Vector3d(0, 0.1, 2.5)), &rendered_whole));
+  ASSERT_TRUE(renderedCentre(body(cut), &rendered_cut));
+  const double offset_change = ((cut - rendered_cut) - (Eigen::Vector3d(0, 0.1, 2.5) - rendered_whole)).norm();
+  std::printf("offset of the right fit of the cut person: %.3f m from the others'\n", offset_change);
+  ASSERT_GT(offset_change, BodyTrackAssembler::Options().max_offset_deviation) << "the offset rule would drop it";
+  for (const bool by_visible_centre : {true, false}) {
+    BodyTrackAssembler::Options options;
+    options.visible_centre = by_visible_centre;
+    const std::vector<BodyTrack> tracks = BodyTrackAssembler(model(), options)
+                                              .assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, camera());
+    ASSERT_EQ(tracks.size(), 1u);
+    EXPECT_EQ(tracks[0].fits, by_visible_centre ? 4 : 3);
+    EXPECT_EQ(tracks[0].frames[3].fitted, by_visible_centre);
+    EXPECT_FALSE(tracks[0].frames[4].fitted) << "the wrong fit is dropped either way";
+  }
+}
+
 TEST(VisibleCentre, RefusesOptionsOutOfRange) {
   VisibleCentre::Options options;
   options.cell_px = 0;

@@ -32,6 +32,11 @@ Eigen::VectorXd paddedShape(const Eigen::VectorXd& shape) {
 // lie about 1 cm apart; every 4th still covers each pixel cell at the usual distances).
 constexpr size_t kVertexStride = 4;
 
+// A fit's body with at least this share of its vertices inside its frame's image counts as whole
+// in view (its eq. 2 centre then lies where it would without the border); below, as cut by the
+// border.
+constexpr double kWholeShare = 0.9;
+
 // A person standing with the arms down, as eq. 4 places a person with no fit.
 BodyParameters standingBody(const Eigen::VectorXd& shape) {
   BodyParameters body;
@@ -112,88 +117,93 @@ BodyTrackFrame BodyTrackAssembler::frameFromBody(double timestamp, bool fitted, 
   return frame;
 }
 
-// Drops the fits whose offset from their eq. 2 centre is far from the median offset of the track's fits.
-void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
-                                         std::vector<const BodyTrackFit*>* fitted) const {
-  if (offsets->size() < 3) return;  // no majority to judge by
+namespace {
+
+// Keeps the elements of *values whose flag in `keep` is set, in order.
+template <typename T>
+void keepWhere(const std::vector<bool>& keep, std::vector<T>* values) {
+  size_t kept = 0;
+  for (size_t i = 0; i < values->size(); ++i) {
+    if (keep[i]) (*values)[kept++] = (*values)[i];
+  }
+  values->resize(kept);
+}
+
+// Per axis.
+Eigen::Vector3d medianVector(const std::vector<Eigen::Vector3d>& vectors) {
   Eigen::Vector3d median;
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<double> values;
-    for (const Eigen::Vector3d& o : *offsets) values.push_back(o[axis]);
+    for (const Eigen::Vector3d& v : vectors) values.push_back(v[axis]);
     std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
     median[axis] = values[values.size() / 2];
   }
-  size_t kept = 0;
-  for (size_t i = 0; i < offsets->size(); ++i) {
-    if (((*offsets)[i] - median).norm() > options_.max_offset_deviation) continue;
-    (*bodies)[kept] = (*bodies)[i];
-    (*offsets)[kept] = (*offsets)[i];
-    (*fitted)[kept] = (*fitted)[i];
-    ++kept;
-  }
-  bodies->resize(kept);
-  offsets->resize(kept);
-  fitted->resize(kept);
+  return median;
 }
 
-// What placing a track's frames by their visible centre needs: the track's fits in the world and
-// its sightings, the final keyframe poses, the image model, and per fit (made when first needed)
-// its mesh about its pelvis with the bias of its frame's measured centre from the modelled one.
-struct BodyTrackAssembler::Placement {
-  struct FitView {
-    bool valid = false;
-    std::vector<Eigen::Vector3d> relative_w;  // every kVertexStride-th vertex minus the pelvis
-    Eigen::Vector3d bias_c = Eigen::Vector3d::Zero();  // measured minus modelled centre, camera axes
-  };
-  const std::vector<BodyParameters>& bodies;
-  const std::vector<const BodyTrackFit*>& fitted;
-  const std::vector<const PersonSighting*>& seen;
-  const std::map<int, Eigen::Isometry3d>& keyframe_poses;
-  VisibleCentre image;
-  Eigen::Vector3d rest_pelvis;
-  std::map<size_t, FitView> views;
+std::vector<Eigen::Vector3d> rotated(const Eigen::Matrix3d& R, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) out.push_back(R * p);
+  return out;
+}
 
-  Eigen::Isometry3d T_w_c(const PersonSighting& s) const { return keyframe_poses.at(s.keyframe_id) * s.T_k_c; }
-  static std::vector<Eigen::Vector3d> rotated(const Eigen::Matrix3d& R, const std::vector<Eigen::Vector3d>& points) {
-    std::vector<Eigen::Vector3d> out;
-    out.reserve(points.size());
-    for (const Eigen::Vector3d& p : points) out.push_back(R * p);
-    return out;
-  }
-};
+}  // namespace
 
-bool BodyTrackAssembler::pelvisByVisibleCentre(const PersonSighting& s, size_t nearest, const Eigen::Vector3d& start_w,
-                                               Placement* placement, Eigen::Vector3d* pelvis_w) const {
-  auto view = placement->views.find(nearest);
-  if (view == placement->views.end()) {
-    view = placement->views.emplace(nearest, Placement::FitView()).first;
-    Placement::FitView& made = view->second;
-    const BodyTrackFit& fit = *placement->fitted[nearest];
-    const auto own = std::find_if(placement->seen.begin(), placement->seen.end(),
-                                  [&](const PersonSighting* p) { return p->frame_index == fit.frame_index; });
-    if (own == placement->seen.end()) return false;
-    const BodyParameters& body = placement->bodies[nearest];
-    const Eigen::Vector3d pelvis = placement->rest_pelvis + body.translation;
-    const BodyMesh mesh = model_.evaluate(body);
-    for (size_t v = 0; v < mesh.vertices.size(); v += kVertexStride) {
-      made.relative_w.push_back(mesh.vertices[v].cast<double>() - pelvis);
-    }
-    // The fit's own frame: how far its measured centre lies from the one its body gives (the
-    // mask's edges, the depth interval, pixels against vertices), to be allowed for elsewhere.
-    const Eigen::Isometry3d T_w_c = placement->T_w_c(**own);
-    Eigen::Vector3d modelled;
-    if (!placement->image.centre(Placement::rotated(T_w_c.linear().transpose(), made.relative_w),
-                                 T_w_c.inverse() * pelvis, &modelled)) {
-      return false;
-    }
-    made.bias_c = (*own)->p_c - modelled;
-    made.valid = true;
+// Drops the fits that disagree with the track's other fits about where the pelvis lies against the
+// measured eq. 2 centre, by more than max_offset_deviation from the median. A fit whose body lies
+// in the image (views empty, or at least kWholeShare of it in view) is judged by the offset of its
+// pelvis from the centre, against the median over such fits; a fit whose body is cut by the image
+// border, whose centre lies on the part in view, by how far the centre lies from the one its body
+// gives there (the view's bias), against the median over all views.
+void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
+                                         std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const {
+  if (offsets->size() < 3) return;  // no majority to judge by
+  const auto cut = [&](size_t i) { return !views->empty() && (*views)[i].valid && (*views)[i].share_in_view < kWholeShare; };
+  std::vector<Eigen::Vector3d> whole_offsets, biases;
+  for (size_t i = 0; i < offsets->size(); ++i) {
+    if (!cut(i)) whole_offsets.push_back((*offsets)[i]);
+    if (!views->empty() && (*views)[i].valid) biases.push_back((*views)[i].bias_c);
   }
-  if (!view->second.valid) return false;
-  const Eigen::Isometry3d T_w_c = placement->T_w_c(s);
+  if (whole_offsets.size() < 3) whole_offsets = *offsets;
+  const Eigen::Vector3d offset_median = medianVector(whole_offsets);
+  const Eigen::Vector3d bias_median = biases.empty() ? Eigen::Vector3d::Zero() : medianVector(biases);
+  std::vector<bool> keep(offsets->size());
+  for (size_t i = 0; i < offsets->size(); ++i) {
+    const Eigen::Vector3d deviation = cut(i) ? Eigen::Vector3d((*views)[i].bias_c - bias_median)
+                                             : Eigen::Vector3d((*offsets)[i] - offset_median);
+    keep[i] = deviation.norm() <= options_.max_offset_deviation;
+  }
+  keepWhere(keep, bodies);
+  keepWhere(keep, offsets);
+  keepWhere(keep, fitted);
+  if (!views->empty()) keepWhere(keep, views);
+}
+
+BodyTrackAssembler::FitView BodyTrackAssembler::fitView(const BodyParameters& body_w, const Eigen::Vector3d& rest_pelvis,
+                                                        const PersonSighting& own, const Eigen::Isometry3d& T_w_c,
+                                                        const VisibleCentre& image) const {
+  FitView view;
+  const Eigen::Vector3d pelvis_w = rest_pelvis + body_w.translation;
+  const BodyMesh mesh = model_.evaluate(body_w);
+  for (size_t v = 0; v < mesh.vertices.size(); v += kVertexStride) {
+    view.relative_w.push_back(mesh.vertices[v].cast<double>() - pelvis_w);
+  }
+  // How far the measured centre lies from the one the body gives (the mask's edges, the depth
+  // interval, pixels against vertices), to be allowed for in other frames.
+  Eigen::Vector3d modelled;
+  view.valid = image.centre(rotated(T_w_c.linear().transpose(), view.relative_w), T_w_c.inverse() * pelvis_w,
+                            &modelled, &view.share_in_view);
+  if (view.valid) view.bias_c = own.p_c - modelled;
+  return view;
+}
+
+bool BodyTrackAssembler::pelvisByVisibleCentre(const PersonSighting& s, const Eigen::Isometry3d& T_w_c,
+                                               const FitView& view, const Eigen::Vector3d& start_w,
+                                               const VisibleCentre& image, Eigen::Vector3d* pelvis_w) const {
   Eigen::Vector3d pelvis_c;
-  if (!placement->image.pelvisFor(Placement::rotated(T_w_c.linear().transpose(), view->second.relative_w),
-                                  s.p_c - view->second.bias_c, T_w_c.inverse() * start_w, &pelvis_c)) {
+  if (!view.valid || !image.pelvisFor(rotated(T_w_c.linear().transpose(), view.relative_w), s.p_c - view.bias_c,
+                                      T_w_c.inverse() * start_w, &pelvis_c)) {
     return false;
   }
   *pelvis_w = T_w_c * pelvis_c;
@@ -210,21 +220,24 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
   for (const BodyTrackFit* f : fitted) track.shape += paddedShape(f->body_c.shape);
   if (!fitted.empty()) track.shape /= static_cast<double>(fitted.size());
   const Eigen::Vector3d rest_pelvis = model_.restJoints(track.shape)[0];
-  const auto centre_w = [&](const PersonSighting& s) {
-    return Eigen::Vector3d(keyframe_poses.at(s.keyframe_id) * s.T_k_c * s.p_c);
-  };
-  // Each fit in the world, with the offset of its pelvis from its frame's eq. 2 centre.
+  const auto T_w_c = [&](const PersonSighting& s) { return keyframe_poses.at(s.keyframe_id) * s.T_k_c; };
+  const auto centre_w = [&](const PersonSighting& s) { return Eigen::Vector3d(T_w_c(s) * s.p_c); };
+  const VisibleCentre image(intrinsics);
+  // Each fit in the world, with the offset of its pelvis from its frame's eq. 2 centre and, with
+  // visible_centre, its view in its own frame.
   std::vector<BodyParameters> bodies;
   std::vector<Eigen::Vector3d> offsets;
+  std::vector<FitView> views;
   for (const BodyTrackFit* f : fitted) {
     bodies.push_back(fitInWorld(*f, track.shape, keyframe_poses));
     const auto own = std::find_if(seen.begin(), seen.end(),
                                   [&](const PersonSighting* s) { return s->frame_index == f->frame_index; });
     const Eigen::Vector3d pelvis = rest_pelvis + bodies.back().translation;
     offsets.push_back(own != seen.end() ? Eigen::Vector3d(pelvis - centre_w(**own)) : Eigen::Vector3d::Zero());
+    if (!options_.visible_centre) continue;
+    views.push_back(own != seen.end() ? fitView(bodies.back(), rest_pelvis, **own, T_w_c(**own), image) : FitView());
   }
-  dropOutlierFits(&bodies, &offsets, &fitted);
-  Placement placement{bodies, fitted, seen, keyframe_poses, VisibleCentre(intrinsics), rest_pelvis, {}};
+  dropOutlierFits(&bodies, &offsets, &fitted, &views);
   size_t next = 0;  // first fit at or after the current frame
   for (const PersonSighting* s : seen) {
     while (next < fitted.size() && fitted[next]->frame_index < s->frame_index) ++next;
@@ -242,13 +255,11 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
       body = bodies[nearest];
       const Eigen::Vector3d by_offset = centre_w(*s) + offsets[nearest];
       Eigen::Vector3d pelvis_w = by_offset;
-      if (options_.visible_centre) pelvisByVisibleCentre(*s, nearest, by_offset, &placement, &pelvis_w);
+      if (!views.empty()) pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], by_offset, image, &pelvis_w);
       placePelvis(pelvis_w, rest_pelvis, &body);
     } else {
       body = standingBody(track.shape);
-      const Eigen::Isometry3d T_w_h =
-          humanToWorld(keyframe_poses.at(s->keyframe_id) * s->T_k_c, centre_w(*s));
-      body.pose[0] = axisAngle(T_w_h.linear());
+      body.pose[0] = axisAngle(humanToWorld(T_w_c(*s), centre_w(*s)).linear());
       placePelvis(centre_w(*s), rest_pelvis, &body);
     }
     track.frames.push_back(frameFromBody(t, exact, body));

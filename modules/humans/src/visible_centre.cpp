@@ -28,7 +28,7 @@ VisibleCentre::VisibleCentre(const CameraIntrinsics& intrinsics, const Options& 
 }
 
 bool VisibleCentre::centre(const std::vector<Eigen::Vector3d>& relative_c, const Eigen::Vector3d& pelvis_c,
-                           Eigen::Vector3d* centre_c) const {
+                           Eigen::Vector3d* centre_c, double* share_in_view) const {
   const CameraIntrinsics& K = intrinsics_;
   const int cell = options_.cell_px;
   const int cols = (K.width + cell - 1) / cell, rows = (K.height + cell - 1) / cell;
@@ -37,6 +37,7 @@ bool VisibleCentre::centre(const std::vector<Eigen::Vector3d>& relative_c, const
   // not by how densely the mesh has vertices there).
   std::vector<double> nearest(static_cast<size_t>(cols * rows), std::numeric_limits<double>::infinity());
   Eigen::Vector2d low(K.width, K.height), high(0, 0);
+  size_t in_view = 0;
   for (const Eigen::Vector3d& r : relative_c) {
     const Eigen::Vector3d p = pelvis_c + r;
     if (p.z() < kMinDepth) continue;
@@ -46,7 +47,9 @@ bool VisibleCentre::centre(const std::vector<Eigen::Vector3d>& relative_c, const
     nearest[index] = std::min(nearest[index], p.z());
     low = low.cwiseMin(uv);
     high = high.cwiseMax(uv);
+    ++in_view;
   }
+  if (share_in_view) *share_in_view = relative_c.empty() ? 0.0 : static_cast<double>(in_view) / relative_c.size();
   double depth_sum = 0;
   int cells = 0;
   for (const double z : nearest) {

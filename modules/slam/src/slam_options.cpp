@@ -181,7 +181,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
            "a fit whose pelvis is further from where the person's other fits lie (relative to the eq. 2 centre) is dropped");
   s.boolean("bodies.visible_centre", &o.body_tracks.visible_centre,
             "a person far from any fit is placed where the nearest fit's body gives their eq. 2 centre in the image "
-            "(the part inside it only); false: at the centre plus the fit's offset");
+            "(the part inside it only), and a fit of a person cut by the border is judged by that centre; false: at "
+            "the centre plus the fit's offset, every fit judged by its offset");
   s.integer("bodies.scene_every", &o.scene.bodies_every, 0, 100000, "frames",
             "scene.ply/.obj also show every n-th body along each track (0 = the last fitted body only)");
 }

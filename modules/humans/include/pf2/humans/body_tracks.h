@@ -14,7 +14,8 @@
 //     centre on the part still in view, and the fixed offset misses the pelvis by 20-30 cm there;
 //   - a person with no fit at all: a standing body (arms down) placed by eq. 4 at the eq. 2 centre.
 // A fit far from where the track's other fits lie relative to their eq. 2 centres is dropped first
-// (max_offset_deviation). Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
+// (max_offset_deviation; with visible_centre, a fit of a body cut by the image border by how far
+// its frame's centre lies from the one its body gives there, as that of the track's other fits). Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
 // then smoothed over time (Gaussian, smoothing_sigma) and each body moved with its pelvis.
 #include <array>
 #include <map>
@@ -25,6 +26,7 @@
 #include "pf2/body/body_model.h"
 #include "pf2/humans/body_track_fitter.h"
 #include "pf2/humans/human_track.h"
+#include "pf2/humans/visible_centre.h"
 
 namespace pf2 {
 
@@ -67,7 +69,9 @@ class BodyTrackAssembler {
     // partly hidden by another, keypoints of two people mixed). [0.01, 10] m
     double max_offset_deviation = 0.25;
     // Frames beyond max_gap from any fit place the nearest fit's body by the eq. 2 centre it would
-    // give in the image (true) or by the centre plus the fit's offset (false).
+    // give in the image (true) or by the centre plus the fit's offset (false); with true, a fit of
+    // a body cut by the image border is judged by max_offset_deviation on how far its frame's
+    // centre lies from the one its body gives there (its offset is no guide).
     bool visible_centre = true;
   };
 
@@ -82,17 +86,29 @@ class BodyTrackAssembler {
                                   const CameraIntrinsics& intrinsics) const;
 
  private:
-  struct Placement;
+  // A fit as its own frame's image shows it (Options::visible_centre): its mesh about its pelvis
+  // (world axes, every few vertices), the share of it inside the image, and how far the eq. 2
+  // centre measured in that frame lies from the one its body gives there (VisibleCentre), in that
+  // camera's axes.
+  struct FitView {
+    bool valid = false;  // false: the body is out of its own frame's view (or the frame unknown)
+    std::vector<Eigen::Vector3d> relative_w;
+    double share_in_view = 0;
+    Eigen::Vector3d bias_c = Eigen::Vector3d::Zero();
+  };
   BodyTrack assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
                           std::vector<const BodyTrackFit*> fitted,
                           const std::map<int, Eigen::Isometry3d>& keyframe_poses,
                           const CameraIntrinsics& intrinsics) const;
-  // The pelvis (world) of fit `nearest`'s body in sighting s, by the eq. 2 centre it gives in s's
-  // image (Options::visible_centre); false when that fails (see the .cpp).
-  bool pelvisByVisibleCentre(const PersonSighting& s, size_t nearest, const Eigen::Vector3d& start_w,
-                             Placement* placement, Eigen::Vector3d* pelvis_w) const;
   void dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
-                       std::vector<const BodyTrackFit*>* fitted) const;
+                       std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const;
+  FitView fitView(const BodyParameters& body_w, const Eigen::Vector3d& rest_pelvis, const PersonSighting& own,
+                  const Eigen::Isometry3d& T_w_c, const VisibleCentre& image) const;
+  // The pelvis (world) at which the view's body gives sighting s's eq. 2 centre, less the view's
+  // bias, searched from start_w; false (and *pelvis_w unchanged) when that fails.
+  bool pelvisByVisibleCentre(const PersonSighting& s, const Eigen::Isometry3d& T_w_c, const FitView& view,
+                             const Eigen::Vector3d& start_w, const VisibleCentre& image,
+                             Eigen::Vector3d* pelvis_w) const;
   BodyParameters fitInWorld(const BodyTrackFit& fit, const Eigen::VectorXd& shape,
                             const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
   BodyTrackFrame frameFromBody(double timestamp, bool fitted, const BodyParameters& body_w) const;

@@ -31,10 +31,11 @@ class VisibleCentre {
   explicit VisibleCentre(const CameraIntrinsics& intrinsics) : VisibleCentre(intrinsics, Options()) {}
 
   // The eq. 2 centre (camera frame, m) of a body whose mesh vertices, relative to its pelvis and in
-  // camera axes, are relative_c, with its pelvis at pelvis_c. False when no vertex is in view.
+  // camera axes, are relative_c, with its pelvis at pelvis_c, and the share of those vertices
+  // inside the image (in [0, 1]; when share_in_view is given). False when no vertex is in view.
   // Thread safe (const).
   bool centre(const std::vector<Eigen::Vector3d>& relative_c, const Eigen::Vector3d& pelvis_c,
-              Eigen::Vector3d* centre_c) const;
+              Eigen::Vector3d* centre_c, double* share_in_view = nullptr) const;
 
   // The pelvis (camera frame) at which centre() is target_c, searched from start_c: each step moves
   // the pelvis by what its centre still misses (one step when the whole body is in view; more when
