@@ -152,14 +152,16 @@ std::vector<Eigen::Vector3d> rotated(const Eigen::Matrix3d& R, const std::vector
 
 // Drops the fits that disagree with the track's other fits about where the pelvis lies against the
 // measured eq. 2 centre, by more than max_offset_deviation from the median. A fit whose body lies
-// in the image (views empty, or at least kWholeShare of it in view) is judged by the offset of its
-// pelvis from the centre, against the median over such fits; a fit whose body is cut by the image
-// border, whose centre lies on the part in view, by how far the centre lies from the one its body
-// gives there (the view's bias), against the median over all views.
+// in the image (no views, no valid view, or at least kWholeShare of it in view) is judged by the
+// offset of its pelvis from the centre, against the median over such fits; a fit whose body is
+// cut by the image border, whose centre lies on the part in view, by how far the centre lies from
+// the one its body gives there (the view's bias), against the median over all views.
 void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
                                          std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const {
   if (offsets->size() < 3) return;  // no majority to judge by
-  const auto cut = [&](size_t i) { return !views->empty() && (*views)[i].valid && (*views)[i].share_in_view < kWholeShare; };
+  const auto cut = [&](size_t i) {
+    return !views->empty() && (*views)[i].valid && (*views)[i].share_in_view < kWholeShare;
+  };
   std::vector<Eigen::Vector3d> whole_offsets, biases;
   for (size_t i = 0; i < offsets->size(); ++i) {
     if (!cut(i)) whole_offsets.push_back((*offsets)[i]);

@@ -14,9 +14,11 @@
 //     centre on the part still in view, and the fixed offset misses the pelvis by 20-30 cm there;
 //   - a person with no fit at all: a standing body (arms down) placed by eq. 4 at the eq. 2 centre.
 // A fit far from where the track's other fits lie relative to their eq. 2 centres is dropped first
-// (max_offset_deviation; with visible_centre, a fit of a body cut by the image border by how far
-// its frame's centre lies from the one its body gives there, as that of the track's other fits). Every body of a track gets the track's shape (the mean of its fits). The pelvis positions are
-// then smoothed over time (Gaussian, smoothing_sigma) and each body moved with its pelvis.
+// (max_offset_deviation; with visible_centre, a fit of a body cut by the image border is judged by
+// how far its frame's centre lies from the one its body gives there, against the track's other
+// fits). Every body of a track gets the track's shape (the mean of its fits). The pelvis
+// positions are then smoothed over time (Gaussian, smoothing_sigma) and each body moved with its
+// pelvis.
 #include <array>
 #include <map>
 #include <vector>
