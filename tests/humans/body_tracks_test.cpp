@@ -162,7 +162,8 @@ TEST(BodyTrackAssembler, DropsAFitFarFromTheOthers) {
     fits.push_back(fitAt(f, 0.1 * f, f == 2 ? wrong : body));
   }
   const BodyTrackAssembler assembler(model(), noSmoothing());
-  const std::vector<BodyTrack> tracks = assembler.assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+  const std::vector<BodyTrack> tracks =
+      assembler.assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
   ASSERT_EQ(tracks[0].frames.size(), 5u);
   EXPECT_EQ(tracks[0].fits, 4);
   EXPECT_FALSE(tracks[0].frames[2].fitted);
@@ -182,7 +183,8 @@ TEST(BodyTracksJson, WritesAndReadsBackAndTheJointsFollowFromPoseAndShape) {
   }
   const std::vector<BodyTrack> tracks =
       BodyTrackAssembler(model(), BodyTrackAssembler::Options())
-          .assemble(seen, fits, {{0, cameraPose(0.3, Eigen::Vector3d(0.5, 0.2, -1))}}, CameraIntrinsics());
+          .assemble(seen, fits, {{0, cameraPose(0.3, Eigen::Vector3d(0.5, 0.2, -1))}},
+                    CameraIntrinsics());
   const std::string path = testing::TempDir() + "pf2_humans.json";
   writeBodyTracksJson(path, tracks);
   const std::vector<BodyTrack> read = readBodyTracksJson(path);

@@ -56,7 +56,9 @@ bool renderedCentre(const BodyParameters& b, Eigen::Vector3d* centre_c) {
 std::vector<Eigen::Vector3d> aboutPelvis(const BodyParameters& b) {
   const BodyMesh mesh = model().evaluate(b);
   std::vector<Eigen::Vector3d> relative;
-  for (size_t v = 0; v < mesh.vertices.size(); v += 4) relative.push_back(mesh.vertices[v].cast<double>() - mesh.joints[0]);
+  for (size_t v = 0; v < mesh.vertices.size(); v += 4) {
+    relative.push_back(mesh.vertices[v].cast<double>() - mesh.joints[0]);
+  }
   return relative;
 }
 
@@ -134,7 +136,8 @@ TEST(VisibleCentre, PlacesAPersonCutByTheBorderLongAfterTheirFit) {
     ASSERT_EQ(tracks.size(), 1u);
     ASSERT_EQ(tracks[0].frames.size(), 2u);
     const double miss = (tracks[0].frames[1].pelvis_w - T_w_k * cut).norm();
-    std::printf("cut person placed %s: %.3f m from the pelvis\n", by_visible_centre ? "by the visible centre" : "by the offset", miss);
+    std::printf("cut person placed %s: %.3f m from the pelvis\n",
+                by_visible_centre ? "by the visible centre" : "by the offset", miss);
     if (by_visible_centre) EXPECT_LT(miss, 0.04);
     else EXPECT_GT(miss, 0.15);
     EXPECT_LT((tracks[0].frames[0].pelvis_w - T_w_k * in_view).norm(), 1e-6) << "the fit itself stays";

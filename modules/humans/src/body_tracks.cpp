@@ -182,7 +182,8 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
   if (!views->empty()) keepWhere(keep, views);
 }
 
-BodyTrackAssembler::FitView BodyTrackAssembler::fitView(const BodyParameters& body_w, const Eigen::Vector3d& rest_pelvis,
+BodyTrackAssembler::FitView BodyTrackAssembler::fitView(const BodyParameters& body_w,
+                                                        const Eigen::Vector3d& rest_pelvis,
                                                         const PersonSighting& own, const Eigen::Isometry3d& T_w_c,
                                                         const VisibleCentre& image) const {
   FitView view;
