@@ -111,6 +111,10 @@ struct DataTerm {
     double weight_2d = 0;     // 0 = not used
     double depth = 0;         // target z of the keypoint's point (surface + depth below it); if weight_depth > 0
     double weight_depth = 0;
+    // The other keypoint of a left/right pair seen from the side (-1: none): of the two, the one
+    // farther from the camera in the current pose hides behind the nearer, its measured surface
+    // is the nearer's, and its depth term only keeps it from coming in front of that surface.
+    int hidden_partner = -1;
   };
   const Eigen::Matrix<double, 3 * kBodyJointCount, 1>* rest;
   const Eigen::Matrix<double, 3 * kBodyJointCount, kShapes>* shapedirs;
@@ -124,12 +128,15 @@ struct DataTerm {
     T joints[kBodyJointCount][3];
     T G_R[kBodyJointCount][9];
     forwardKinematics(*rest, *shapedirs, root, translation, body, shape, joints, G_R);
+    T points[kCocoKeypointCount][3];
+    for (int k = 0; k < kCocoKeypointCount; ++k) {
+      if (keypoints[k].joint >= 0) keypointPoint(joints, G_R, keypoints[k].joint, keypoints[k].offset, points[k]);
+    }
     for (int k = 0; k < kCocoKeypointCount; ++k) {
       const Keypoint& kp = keypoints[k];
       residuals[2 * k] = residuals[2 * k + 1] = residuals[kResiduals2d + k] = T(0);
       if (kp.joint < 0) continue;
-      T p[3];
-      keypointPoint(joints, G_R, kp.joint, kp.offset, p);
+      const T* p = points[k];
       if (kp.weight_2d > 0) {
         // A joint behind or at the camera would divide by ~0: clamp its depth; the other terms
         // bring it back in front.
@@ -138,8 +145,10 @@ struct DataTerm {
         residuals[2 * k + 1] = kp.weight_2d * (fy * p[1] / z + cy - kp.v);
       }
       if (kp.weight_depth > 0) {
-        // Huber as a residual: 0.5 r^2 equals the Huber loss of the error e.
-        const T e = p[2] - kp.depth;
+        // Huber as a residual: 0.5 r^2 equals the Huber loss of the error e. The hidden one of a
+        // pair seen from the side may lie any distance behind its target.
+        T e = p[2] - kp.depth;
+        if (kp.hidden_partner >= 0 && p[2] > points[kp.hidden_partner][2] && e > T(0)) e = T(0);
         const T r = abs(e) <= T(depth_delta) ? e
                                              : (e > T(0) ? T(1) : T(-1)) * sqrt(2.0 * depth_delta * abs(e) -
                                                                                depth_delta * depth_delta);
@@ -149,6 +158,24 @@ struct DataTerm {
     return true;
   }
 };
+
+// Left/right keypoint pairs (ears, shoulders, elbows, wrists, hips, knees, ankles) whose two
+// keypoints lie closer in the image than side_view_separation at their depth: a person seen from
+// the side. The keypoint on the far side then falls on the near side's surface, and a two-sided
+// depth term would pull its joint forward by the body's width.
+void pairSideViews(const BodyFitInput& input, const std::array<double, kCocoKeypointCount>& surface,
+                   const CameraIntrinsics& K, double side_view_separation, DataTerm* term) {
+  for (int left = 3; left + 1 < kCocoKeypointCount; left += 2) {
+    const int right = left + 1;
+    if (term->keypoints[left].weight_depth <= 0 || term->keypoints[right].weight_depth <= 0) continue;
+    const double du = input.keypoints[left].u - input.keypoints[right].u;
+    const double dv = input.keypoints[left].v - input.keypoints[right].v;
+    const double depth = 0.5 * (surface[left] + surface[right]);
+    if (std::sqrt(du * du + dv * dv) * depth >= K.fx * side_view_separation) continue;
+    term->keypoints[left].hidden_partner = right;
+    term->keypoints[right].hidden_partner = left;
+  }
+}
 
 // Pose prior around the relaxed pose with per-joint scales, plus one-sided joint limits.
 constexpr int kLimitResiduals = 4;
@@ -229,8 +256,13 @@ BodyFitter::BodyFitter(const BodyModel& model, const Options& options) : model_(
   const bool ok = options.min_confidence >= 0 && options.min_keypoints >= 1 && options.weight_2d > 0 &&
                   options.weight_depth >= 0 && options.depth_delta > 0 && options.depth_radius_px > 0 &&
                   options.weight_pose >= 0 && options.weight_limits >= 0 && options.weight_shape >= 0 &&
-                  options.weight_temporal >= 0 && options.stage1_iterations >= 0 && options.max_iterations >= 1;
-  if (!ok) throw Error("BodyFitter: an option is out of range (weights >= 0, iterations >= 1, radius > 0)");
+                  options.weight_temporal >= 0 && options.stage1_iterations >= 0 && options.max_iterations >= 1 &&
+                  options.side_view_separation >= 0 && options.side_view_separation <= 1;
+  if (!ok) {
+    throw Error(
+        "BodyFitter: an option is out of range (weights >= 0, iterations >= 1, radius > 0, side_view_separation in "
+        "[0, 1] m)");
+  }
 }
 
 // The posed joints and each joint's rotation (row-major) for parameters, by the fitter's kinematics.
@@ -496,6 +528,9 @@ ceres::CostFunction* BodyFitter::dataTerm(const BodyFitInput& input, const Obser
       t.depth = seen.surface[k] + kCocoToBodyJoint[k].depth_below_surface;
       t.weight_depth = options_.weight_depth * std::sqrt(kCocoToBodyJoint[k].weight);
     }
+  }
+  if (options_.side_view_separation > 0) {
+    pairSideViews(input, seen.surface, K, options_.side_view_separation, term);
   }
   return new ceres::AutoDiffCostFunction<DataTerm, kResidualsData, 3, 3, kBodyPoseSize, kShapes>(term);
 }

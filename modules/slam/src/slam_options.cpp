@@ -174,6 +174,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.boolean("bodies.keypoint_offsets", &b.fitter.keypoint_offsets,
             "COCO keypoints lie beside their joints as measured for MoveNet (hips, shoulders, ankles 2-3 cm up the "
             "bone); false: at the joints");
+  s.number("bodies.side_view_separation", &b.fitter.side_view_separation, 0.0, 1.0, "metres",
+           "a left/right keypoint pair closer than this in the image is seen from the side: the hidden one's depth "
+           "term only keeps it behind the surface it falls on (0 = off)");
   s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");

@@ -97,6 +97,11 @@ class BodyFitter {
     double weight_depth = 150.0;
     double depth_delta = 0.05;       // m, Huber threshold of the depth residual
     double depth_radius_px = 4.0;    // pixels around a keypoint whose points count
+    // A left/right keypoint pair closer in the image than this (metres at their depth) is seen
+    // from the side: the keypoint of the pair farther from the camera (in the pose being fitted)
+    // is hidden behind the nearer and measures the nearer side's surface, so its depth term only
+    // keeps it from coming in front of that surface. [0, 1] m; 0 = every depth term two-sided.
+    double side_view_separation = 0.075;
     // Keypoints lie at their joint plus CocoJointLink::offset (true) or at the joint itself.
     bool keypoint_offsets = true;
     // Pose prior: zero-mean quadratic on the axis-angle of joints 1..23 (radians), residual =
