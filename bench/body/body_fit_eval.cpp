@@ -32,7 +32,7 @@ namespace {
 const char* kUsage =
     "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
-    "                         [--no-keypoint-offsets]\n"
+    "                         [--no-keypoint-offsets] [--no-side-views]\n"
     "                         [--weight-depth W] [--weight-pose W] [--weight-shape W]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
     "in every K-th frame (default 10) of a pf2_synth sequence and scores the fitted joints against\n"
@@ -42,7 +42,8 @@ const char* kUsage =
     "to people by box IoU >= 0.3. --temporal starts each fit from the same person's previous fit.\n"
     "--no-depth fits the keypoints alone. --weight-* override BodyFitter::Options. The fitter places\n"
     "MoveNet's keypoints beside their joints (CocoJointLink::offset) unless --no-keypoint-offsets;\n"
-    "with --detector gt, whose keypoints are the joints themselves, never.\n";
+    "with --detector gt, whose keypoints are the joints themselves, never. --no-side-views keeps every\n"
+    "depth term two-sided (BodyFitter::Options::side_view_separation 0).\n";
 
 using Joints = pf2::BodyJoints;
 long long micros(double stamp) { return pf2::timestampMicros(stamp); }
@@ -116,6 +117,7 @@ int run(int argc, char** argv) {
   fit_options.weight_pose = cli.number("--weight-pose", fit_options.weight_pose);
   fit_options.weight_shape = cli.number("--weight-shape", fit_options.weight_shape);
   fit_options.keypoint_offsets = !cli.flag("--no-keypoint-offsets");
+  if (cli.flag("--no-side-views")) fit_options.side_view_separation = 0;
   const auto positionals = cli.positionals();
   if (positionals.size() != 1) throw pf2::Error("expected SEQUENCE_DIR (see -h)");
   if (every < 1 || noise_px < 0) throw pf2::Error("--every must be >= 1 and --noise >= 0");
@@ -249,10 +251,11 @@ int run(int argc, char** argv) {
 
   char noise_text[64] = "";
   if (!detector) std::snprintf(noise_text, sizeof noise_text, " + noise %.1f px", noise_px);
-  std::printf("keypoints %s%s, offsets %s, depth %s, %s start: person-frames %d (visible >= %.2f, every %d-th "
-              "frame)\n",
+  std::printf("keypoints %s%s, offsets %s, side views %s, depth %s, %s start: person-frames %d (visible >= %.2f, "
+              "every %d-th frame)\n",
               detector ? "learned (MoveNet)" : "gt-projected", noise_text, fit_options.keypoint_offsets ? "on" : "off",
-              no_depth ? "off" : "on", temporal ? "temporal" : "eq. 2", person_frames, min_visible, every);
+              fit_options.side_view_separation > 0 ? "one-sided" : "two-sided", no_depth ? "off" : "on",
+              temporal ? "temporal" : "eq. 2", person_frames, min_visible, every);
   std::printf("fitted %zu, too few keypoints %d, other invalid %d, unmatched %d\n", mpjpe.size(), no_keypoints,
               invalid, unmatched);
   if (mpjpe.empty()) {
