@@ -182,30 +182,39 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
   if (!views->empty()) keepWhere(keep, views);
 }
 
+std::vector<Eigen::Vector3d> BodyTrackAssembler::verticesAboutPelvis(const BodyParameters& body_w,
+                                                                     const Eigen::Vector3d& rest_pelvis) const {
+  const Eigen::Vector3d pelvis_w = rest_pelvis + body_w.translation;
+  const BodyMesh mesh = model_.evaluate(body_w);
+  std::vector<Eigen::Vector3d> relative_w;
+  relative_w.reserve(mesh.vertices.size() / kVertexStride + 1);
+  for (size_t v = 0; v < mesh.vertices.size(); v += kVertexStride) {
+    relative_w.push_back(mesh.vertices[v].cast<double>() - pelvis_w);
+  }
+  return relative_w;
+}
+
 BodyTrackAssembler::FitView BodyTrackAssembler::fitView(const BodyParameters& body_w,
                                                         const Eigen::Vector3d& rest_pelvis,
                                                         const PersonSighting& own, const Eigen::Isometry3d& T_w_c,
                                                         const VisibleCentre& image) const {
   FitView view;
   const Eigen::Vector3d pelvis_w = rest_pelvis + body_w.translation;
-  const BodyMesh mesh = model_.evaluate(body_w);
-  for (size_t v = 0; v < mesh.vertices.size(); v += kVertexStride) {
-    view.relative_w.push_back(mesh.vertices[v].cast<double>() - pelvis_w);
-  }
   // How far the measured centre lies from the one the body gives (the mask's edges, the depth
   // interval, pixels against vertices), to be allowed for in other frames.
   Eigen::Vector3d modelled;
-  view.valid = image.centre(rotated(T_w_c.linear().transpose(), view.relative_w), T_w_c.inverse() * pelvis_w,
-                            &modelled, &view.share_in_view);
+  view.valid = image.centre(rotated(T_w_c.linear().transpose(), verticesAboutPelvis(body_w, rest_pelvis)),
+                            T_w_c.inverse() * pelvis_w, &modelled, &view.share_in_view);
   if (view.valid) view.bias_c = own.p_c - modelled;
   return view;
 }
 
 bool BodyTrackAssembler::pelvisByVisibleCentre(const PersonSighting& s, const Eigen::Isometry3d& T_w_c,
-                                               const FitView& view, const Eigen::Vector3d& start_w,
-                                               const VisibleCentre& image, Eigen::Vector3d* pelvis_w) const {
+                                               const FitView& view, const std::vector<Eigen::Vector3d>& relative_w,
+                                               const Eigen::Vector3d& start_w, const VisibleCentre& image,
+                                               Eigen::Vector3d* pelvis_w) const {
   Eigen::Vector3d pelvis_c;
-  if (!view.valid || !image.pelvisFor(rotated(T_w_c.linear().transpose(), view.relative_w), s.p_c - view.bias_c,
+  if (!view.valid || !image.pelvisFor(rotated(T_w_c.linear().transpose(), relative_w), s.p_c - view.bias_c,
                                       T_w_c.inverse() * start_w, &pelvis_c)) {
     return false;
   }
@@ -241,6 +250,8 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     views.push_back(own != seen.end() ? fitView(bodies.back(), rest_pelvis, **own, T_w_c(**own), image) : FitView());
   }
   dropOutlierFits(&bodies, &offsets, &fitted, &views);
+  // The meshes of the fits that place frames far from every fit, made when first needed.
+  std::map<size_t, std::vector<Eigen::Vector3d>> vertices_of_fit;
   size_t next = 0;  // first fit at or after the current frame
   for (const PersonSighting* s : seen) {
     while (next < fitted.size() && fitted[next]->frame_index < s->frame_index) ++next;
@@ -258,7 +269,13 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
       body = bodies[nearest];
       const Eigen::Vector3d by_offset = centre_w(*s) + offsets[nearest];
       Eigen::Vector3d pelvis_w = by_offset;
-      if (!views.empty()) pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], by_offset, image, &pelvis_w);
+      if (!views.empty() && views[nearest].valid) {
+        auto vertices = vertices_of_fit.find(nearest);
+        if (vertices == vertices_of_fit.end()) {
+          vertices = vertices_of_fit.emplace(nearest, verticesAboutPelvis(bodies[nearest], rest_pelvis)).first;
+        }
+        pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], vertices->second, by_offset, image, &pelvis_w);
+      }
       placePelvis(pelvis_w, rest_pelvis, &body);
     } else {
       body = standingBody(track.shape);

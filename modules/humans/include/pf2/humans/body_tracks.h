@@ -88,13 +88,11 @@ class BodyTrackAssembler {
                                   const CameraIntrinsics& intrinsics) const;
 
  private:
-  // A fit as its own frame's image shows it (Options::visible_centre): its mesh about its pelvis
-  // (world axes, every few vertices), the share of it inside the image, and how far the eq. 2
-  // centre measured in that frame lies from the one its body gives there (VisibleCentre), in that
-  // camera's axes.
+  // A fit as its own frame's image shows it (Options::visible_centre): the share of its mesh inside
+  // the image, and how far the eq. 2 centre measured in that frame lies from the one its body gives
+  // there (VisibleCentre), in that camera's axes.
   struct FitView {
     bool valid = false;  // false: the body is out of its own frame's view (or the frame unknown)
-    std::vector<Eigen::Vector3d> relative_w;
     double share_in_view = 0;
     Eigen::Vector3d bias_c = Eigen::Vector3d::Zero();
   };
@@ -106,11 +104,14 @@ class BodyTrackAssembler {
                        std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const;
   FitView fitView(const BodyParameters& body_w, const Eigen::Vector3d& rest_pelvis, const PersonSighting& own,
                   const Eigen::Isometry3d& T_w_c, const VisibleCentre& image) const;
-  // The pelvis (world) at which the view's body gives sighting s's eq. 2 centre, less the view's
-  // bias, searched from start_w; false (and *pelvis_w unchanged) when that fails.
+  // Every few vertices of the body's mesh, minus its pelvis (world axes).
+  std::vector<Eigen::Vector3d> verticesAboutPelvis(const BodyParameters& body_w, const Eigen::Vector3d& rest_pelvis) const;
+  // The pelvis (world) at which the fit's body (relative_w: verticesAboutPelvis) gives sighting s's
+  // eq. 2 centre, less the view's bias, searched from start_w; false (and *pelvis_w unchanged) when
+  // that fails.
   bool pelvisByVisibleCentre(const PersonSighting& s, const Eigen::Isometry3d& T_w_c, const FitView& view,
-                             const Eigen::Vector3d& start_w, const VisibleCentre& image,
-                             Eigen::Vector3d* pelvis_w) const;
+                             const std::vector<Eigen::Vector3d>& relative_w, const Eigen::Vector3d& start_w,
+                             const VisibleCentre& image, Eigen::Vector3d* pelvis_w) const;
   BodyParameters fitInWorld(const BodyTrackFit& fit, const Eigen::VectorXd& shape,
                             const std::map<int, Eigen::Isometry3d>& keyframe_poses) const;
   BodyTrackFrame frameFromBody(double timestamp, bool fitted, const BodyParameters& body_w) const;
