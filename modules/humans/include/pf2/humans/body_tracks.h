@@ -105,7 +105,8 @@ class BodyTrackAssembler {
   FitView fitView(const BodyParameters& body_w, const Eigen::Vector3d& rest_pelvis, const PersonSighting& own,
                   const Eigen::Isometry3d& T_w_c, const VisibleCentre& image) const;
   // Every few vertices of the body's mesh, minus its pelvis (world axes).
-  std::vector<Eigen::Vector3d> verticesAboutPelvis(const BodyParameters& body_w, const Eigen::Vector3d& rest_pelvis) const;
+  std::vector<Eigen::Vector3d> verticesAboutPelvis(const BodyParameters& body_w,
+                                                   const Eigen::Vector3d& rest_pelvis) const;
   // The pelvis (world) at which the fit's body (relative_w: verticesAboutPelvis) gives sighting s's
   // eq. 2 centre, less the view's bias, searched from start_w; false (and *pelvis_w unchanged) when
   // that fails.
