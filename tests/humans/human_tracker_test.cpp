@@ -175,6 +175,27 @@ TEST(HumanTracker, AStrayCentreDoesNotTakeALostPersonsId) {
   EXPECT_EQ(tracker.resolvedId(2), 2);
 }
 
+// A lost person's last centre came from a box that merged them with someone 1.7 m away (the gate
+// had grown while they were hidden). When they come back where they were walking, their new track
+// is beyond reach of that centre but within reach of the ones before it: re-identified.
+TEST(HumanTracker, ReidentifiesAPersonWhoseLastCentreWasAStrayOne) {
+  const PersonAppearance red = colouredPerson({40, 40, 200});
+  HumanTracker tracker;
+  for (int f = 0; f < 30; ++f) tracker.update(f / kRate, {{0.01 * f, 0, 2}}, {red});
+  for (int f = 30; f < 59; ++f) tracker.update(f / kRate, {});
+  EXPECT_EQ(tracker.update(59 / kRate, {{2.0, 0, 2}}, {red}), std::vector<int>{1});  // the merged box
+  for (int f = 60; f < 92; ++f) tracker.update(f / kRate, {});
+  ASSERT_EQ(tracker.liveTracks(), 0);
+  // 4 m from the stray centre in 1.1 s is beyond gate + max_speed x 1.1 s = 3.75 m.
+  const Eigen::Vector3d back(-2.0, 0, 2);
+  ASSERT_GT((back - Eigen::Vector3d(2.0, 0, 2)).norm(),
+            tracker.options().gate + tracker.options().max_speed * (92 - 59) / kRate);
+  std::vector<int> ids;
+  for (int f = 92; f < 92 + tracker.options().reid_after; ++f) ids = tracker.update(f / kRate, {back}, {red});
+  EXPECT_EQ(ids, std::vector<int>{1});
+  EXPECT_EQ(tracker.resolvedId(2), 1);
+}
+
 // Two people side by side whose measured centres jitter across each other for a frame: by
 // position alone the tracks swap them, with their appearances each keeps their own.
 TEST(HumanTracker, AppearanceKeepsTwoPeopleApartWherePositionsCross) {

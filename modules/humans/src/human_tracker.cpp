@@ -117,12 +117,25 @@ int HumanTracker::reidentify(size_t fresh) const {
     // Seen while the new track was: someone else.
     const double unseen = first.timestamp - last.timestamp;
     if (unseen <= 0 || unseen > options_.reid_window) continue;
-    // Where the person could have walked meanwhile.
-    if ((first.p_w - last.p_w).norm() > options_.gate + options_.max_speed * unseen) continue;
+    if (!canReach(tracks_[t], first)) continue;
     const double similarity = appearanceSimilarity(appearance, appearance_[t]);
     if (similarity >= best_similarity) best_similarity = similarity, best = static_cast<int>(t);
   }
   return best;
+}
+
+// Whether the person of `old` could have walked to `first` (a later centre) while unseen: from any
+// of old's last reid_after centres, not only the last one. A box that merged two people puts a
+// track's last centre on the other person (at their depth), metres from where this one was.
+bool HumanTracker::canReach(const HumanTrack& old, const HumanTrackPoint& first) const {
+  const size_t considered = std::min(old.points.size(), confirmedCentres());
+  for (size_t k = old.points.size() - considered; k < old.points.size(); ++k) {
+    const HumanTrackPoint& from = old.points[k];
+    if ((first.p_w - from.p_w).norm() <= options_.gate + options_.max_speed * (first.timestamp - from.timestamp)) {
+      return true;
+    }
+  }
+  return false;
 }
 
 // The new track's centres become the old track's (all of them later than the old one's last),

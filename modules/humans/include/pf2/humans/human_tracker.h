@@ -15,7 +15,9 @@
 //                without a centre, so a person hidden for a moment keeps their id; a centre no
 //                live track takes is first compared with the tracks lost or unmatched within the
 //                last reid_window seconds, by appearance (colour histogram) and a reachable
-//                position: the most similar one above reid_similarity takes it under its old id.
+//                position (from any of its last reid_after centres: its last one may have come
+//                from a box that merged two people): the most similar one above reid_similarity
+//                takes it under its old id.
 //                The comparison waits until the new track has reid_after centres: a stray
 //                centre that lasts a frame or two (a person's part split off, a false
 //                detection) cannot take a lost person's id, and the new track's appearance is
@@ -99,6 +101,7 @@ class HumanTracker {
   // reid_after centres, lost before `fresh` began, within reid_window and reach of its first
   // centre, the most similar above reid_similarity.
   int reidentify(size_t fresh) const;
+  bool canReach(const HumanTrack& old, const HumanTrackPoint& first) const;
   // Re-identifies the live tracks that have just reached reid_after centres at `timestamp`
   // (merging each into the lost track it is); `ids` (this frame's, per centre) follow the merge.
   void reidentifyNewTracks(double timestamp, std::vector<int>* ids);
