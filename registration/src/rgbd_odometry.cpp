@@ -315,7 +315,8 @@ Accumulator accumulate(const RgbdOdometry::Options& options, const OdometryLevel
         const float gx = bilinear(ref.gradient_x, u, v) * fx * inv_z;
         const float gy = bilinear(ref.gradient_y, u, v) * fy * inv_z;
         const Eigen::Vector3f g(gx, gy, -(gx * q.x() + gy * q.y()) * inv_z);
-        const float w_i = static_cast<float>(lambda * inv_sigma_i2 * huberWeight(r_i / sigma_i, options.huber_k));
+        const float w_i =
+            static_cast<float>(lambda * inv_sigma_i2 * huberWeight(r_i / sigma_i, options.photometric_huber_k));
         J.head<3>() = g;
         J.tail<3>() = q.cross(g);
         sums.H.noalias() += (w_i * J) * J.transpose();

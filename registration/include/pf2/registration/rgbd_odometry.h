@@ -78,7 +78,12 @@ class RgbdOdometry {
     double min_intensity_sigma = 0.01;
     double depth_sigma = 0.01;       // point-to-plane noise at 1 m depth, metres (grows with z^2)
     double photometric_weight = 1.0; // relative weight of the photometric term (0 = ICP only)
-    double huber_k = 1.345;          // Huber threshold on normalised residuals
+    double huber_k = 1.345;          // Huber threshold on the normalised point-to-plane residuals
+    // Huber threshold on the normalised photometric residuals. Wider than the geometric one: on
+    // real cameras (Bonn, TUM) blur, rolling shutter and exposure spread the static scene's
+    // photometric residuals far beyond their measured core (1.4826 x MAD), and at 1.345 those
+    // pixels lost most of their weight (docs/BENCHMARKS.md, "Tracking with the learned detector").
+    double photometric_huber_k = 3.0;
     double max_depth_difference = 0.07;  // relative: |z_ref - z| > this * z is occlusion, no match
     double max_normal_depth_jump = 0.05;  // relative depth change per pixel step across which no
                                           // normal is taken (a depth edge, not a surface)
