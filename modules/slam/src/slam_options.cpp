@@ -105,7 +105,8 @@ void odometrySettings(RgbdOdometry::Options& d, Settings& s) {
   s.integer("tracker.max_points_per_level", &d.max_points_per_level, 100, 1000000, "samples", "dense samples per level");
   s.integer("tracker.iterations_coarse", &d.iterations_coarse, 1, 100, "iterations", "Gauss-Newton, coarsest level");
   s.integer("tracker.iterations_fine", &d.iterations_fine, 1, 100, "iterations", "Gauss-Newton, finest level");
-  s.number("tracker.huber_k", &d.huber_k, 0.1, 100.0, "sigmas", "Huber threshold on normalised point-to-plane residuals");
+  s.number("tracker.huber_k", &d.huber_k, 0.1, 100.0, "sigmas",
+           "Huber threshold on normalised point-to-plane residuals");
   s.number("tracker.photometric_huber_k", &d.photometric_huber_k, 0.1, 100.0, "sigmas",
            "Huber threshold on normalised photometric residuals");
   s.integer("tracker.person_mask_dilation", &d.person_mask_dilation, 0, 100, "pixels",

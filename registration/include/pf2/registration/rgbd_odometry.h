@@ -81,8 +81,10 @@ class RgbdOdometry {
     double huber_k = 1.345;          // Huber threshold on the normalised point-to-plane residuals
     // Huber threshold on the normalised photometric residuals. Wider than the geometric one: on
     // real cameras (Bonn, TUM) blur, rolling shutter and exposure spread the static scene's
-    // photometric residuals far beyond their measured core (1.4826 x MAD), and at 1.345 those
-    // pixels lost most of their weight (docs/BENCHMARKS.md, "Tracking with the learned detector").
+    // photometric residuals far beyond their measured core (1.4826 x MAD), and pf2_slam tracks
+    // those sequences better when such pixels keep more weight (docs/BENCHMARKS.md, "Tracking
+    // with the learned detector"; one alignment alone does not show the gain, tracking against
+    // keyframes does).
     double photometric_huber_k = 3.0;
     double max_depth_difference = 0.07;  // relative: |z_ref - z| > this * z is occlusion, no match
     double max_normal_depth_jump = 0.05;  // relative depth change per pixel step across which no

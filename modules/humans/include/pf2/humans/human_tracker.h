@@ -101,6 +101,7 @@ class HumanTracker {
   // reid_after centres, lost before `fresh` began, within reid_window and reach of its first
   // centre, the most similar above reid_similarity.
   int reidentify(size_t fresh) const;
+  // Whether `first` lies within gate + max_speed x elapsed time of any of old's last reid_after centres.
   bool canReach(const HumanTrack& old, const HumanTrackPoint& first) const;
   // Re-identifies the live tracks that have just reached reid_after centres at `timestamp`
   // (merging each into the lost track it is); `ids` (this frame's, per centre) follow the merge.
