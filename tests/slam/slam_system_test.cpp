@@ -82,6 +82,16 @@ Trajectory groundTruth(const SyntheticSequence& sequence) {
   return trajectory;
 }
 
+// Camera tracking alone (no detector, no map), the back end in the tracker's thread: repeatable.
+SlamOptions repeatableTrackingOnly() {
+  SlamOptions options;
+  options.detector = "none";
+  options.progress = false;
+  options.build_map = false;
+  options.tracker.asynchronous_backend = false;
+  return options;
+}
+
 std::string readAll(const std::string& path) {
   std::ifstream in(path);
   std::stringstream s;
@@ -121,11 +131,7 @@ TEST(SlamSystem, TracksAStaticRoomToAFewMillimetres) {
 // the Bonn crowd frames); pf2_synth's Gaussian noise favours the narrower one.
 double tumRpyAte(const std::string& folder, double photometric_huber_k) {
   const TumSequence sequence(folder);
-  SlamOptions options;
-  options.detector = "none";
-  options.progress = false;
-  options.build_map = false;
-  options.tracker.asynchronous_backend = false;
+  SlamOptions options = repeatableTrackingOnly();
   options.tracker.odometry.distortion = kTumFreiburg1Distortion;
   options.tracker.odometry.photometric_huber_k = photometric_huber_k;
   const std::string out = testing::TempDir() + "pf2_slam_tum_rpy";
@@ -185,12 +191,7 @@ TEST(SlamSystem, BlindFramesAreLostNotInvented) {
 TEST(SlamSystem, NoPoseJumpsOnASequenceBuiltToBreakTheOdometry) {
   const SyntheticSequence sequence(smallSequence(3, 60));
   const HostileSource source(sequence);
-  SlamOptions options;
-  options.detector = "none";
-  options.progress = false;
-  options.build_map = false;
-  options.tracker.asynchronous_backend = false;
-  SlamSystem system(options);
+  SlamSystem system(repeatableTrackingOnly());
   const SlamRunSummary summary = system.run(source, "", testing::TempDir() + "pf2_slam_hostile");
   EXPECT_GT(summary.bridged + summary.lost, 8);  // the random frames at least
   const Trajectory& poses = system.trajectory();
