@@ -22,6 +22,7 @@
 #include "pf2/core/error.h"
 #include "pf2/core/text_lines.h"
 #include "pf2/detection/detector_factory.h"
+#include "pf2/detection/pose_refiner.h"
 #include "pf2/eval/body_metrics.h"
 #include "pf2/detection/gt_detector.h"
 #include "pf2/io/trajectory_io.h"
@@ -112,6 +113,7 @@ int run(int argc, char** argv) {
   const bool no_depth = cli.flag("--no-depth");
   const int max_frames = cli.integer("--frames", 0);
   const bool json = cli.flag("--json");
+  const bool refine = cli.flag("--refine");
   pf2::BodyFitter::Options fit_options;
   fit_options.weight_depth = cli.number("--weight-depth", fit_options.weight_depth);
   fit_options.weight_pose = cli.number("--weight-pose", fit_options.weight_pose);
@@ -138,6 +140,11 @@ int run(int argc, char** argv) {
     options.extra["learned.pose_every"] = "1";  // fresh MoveNet keypoints on every evaluated frame
     detector = pf2::createHumanDetector("learned", options);
   }
+  std::unique_ptr<pf2::PoseRefiner> refiner;
+  pf2::PoseRefiner::Options refine_options;
+  if (getenv("RS")) refine_options.input_size = atoi(getenv("RS"));
+  if (getenv("RM")) refine_options.margin = atof(getenv("RM"));
+  if (refine) refiner = std::make_unique<pf2::PoseRefiner>(refine_options);
 
   const pf2::BodyModel model = pf2::BodyModel::loadDefault();
   const pf2::BodyFitter fitter(model, fit_options);
@@ -205,8 +212,16 @@ int run(int argc, char** argv) {
         }
         taken[best] = true;
         const pf2::PersonDetection& d = detections.people[best];
+        std::vector<pf2::Keypoint2d> keypoints = d.keypoints;
+        if (refiner) {
+          std::vector<pf2::Keypoint2d> fine = keypoints;
+          if (refiner->refine(frame.rgb, d.box, &fine)) {
+            for (int k = 0; k < pf2::kCocoKeypointCount; ++k)
+              if (!getenv("RMAX") || fine[k].score >= keypoints[k].score) keypoints[k] = fine[k];
+          }
+        }
         for (int k = 0; k < pf2::kCocoKeypointCount; ++k) {
-          input.keypoints[k] = {d.keypoints[k].u, d.keypoints[k].v, d.keypoints[k].score};
+          input.keypoints[k] = {keypoints[k].u, keypoints[k].v, keypoints[k].score};
         }
         if (!d.mask.empty()) mask = d.mask > 0;
       }

@@ -89,6 +89,16 @@ void BodyTrackFitter::run() {
 BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackState& track, BodyParameters* start) const {
   BodyFitInput input;
   input.keypoints = o.keypoints;
+  if (options_.refine_keypoints && !o.colour.empty()) {
+    // The refiner works in the pixels of the colour it is given; the fit in the frame's.
+    const cv::Rect2f box(o.box.x - o.colour_origin.x, o.box.y - o.colour_origin.y, o.box.width, o.box.height);
+    std::array<BodyKeypoint, kCocoKeypointCount> refined;
+    if (options_.refine_keypoints(o.colour, box, &refined)) {
+      for (int k = 0; k < kCocoKeypointCount; ++k) {
+        input.keypoints[k] = {refined[k].u + o.colour_origin.x, refined[k].v + o.colour_origin.y, refined[k].confidence};
+      }
+    }
+  }
   if (!o.depth.empty()) {
     cv::Mat frame_depth(o.intrinsics.height, o.intrinsics.width, CV_32F, cv::Scalar(0));
     o.depth.copyTo(frame_depth(o.depth_area));

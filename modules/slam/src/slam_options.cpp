@@ -180,6 +180,15 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.side_view_separation", &b.fitter.side_view_separation, 0.0, 1.0, "metres",
            "a left/right keypoint pair closer than this in the image is seen from the side: the hidden one's depth "
            "term only keeps it behind the surface it falls on (0 = off)");
+  s.boolean("bodies.refine_keypoints", &o.refine_keypoints,
+            "before each fit, MoveNet runs again on a crop around the person (learned and movenet detectors)");
+  s.integer("bodies.refine_input", &o.keypoint_refiner.input_size, 64, 512, "pixels",
+            "side of the crop at MoveNet's input, a multiple of 32");
+  s.require([&o] { return o.keypoint_refiner.input_size % 32 == 0; }, "bodies.refine_input is a multiple of 32",
+            [&o] { return "bodies.refine_input: expected a multiple of 32, got " +
+                          std::to_string(o.keypoint_refiner.input_size); });
+  s.number("bodies.refine_margin", &o.keypoint_refiner.margin, 0.0, 2.0, "",
+           "the crop's side is (1 + this) times the person's box's longer side");
   s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");

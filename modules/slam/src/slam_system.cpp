@@ -104,6 +104,18 @@ bool bodyKeypoints(const PersonDetection& detection, std::array<BodyKeypoint, kC
   return true;
 }
 
+// The colour PoseRefiner looks at around a person (its crop, clipped to the image), copied: the
+// body thread reads it after the frame is gone.
+void cropAroundPerson(const cv::Mat& rgb, const PersonBox& box, double margin, BodyObservation* observation) {
+  const cv::Rect2f area = refinementCrop(box, margin);
+  const cv::Rect crop = cv::Rect(cvFloor(area.x), cvFloor(area.y), cvCeil(area.width) + 1, cvCeil(area.height) + 1) &
+                        cv::Rect(0, 0, rgb.cols, rgb.rows);
+  if (crop.empty()) return;
+  observation->colour = rgb(crop).clone();
+  observation->colour_origin = crop.tl();
+  observation->box = {box.x_ul, box.y_ul, box.width(), box.height()};
+}
+
 // Leaves out the people seen in fewer than min_frames frames (their ids stay unused).
 void dropShortTracks(int min_frames, SlamResult* result) {
   const size_t n = static_cast<size_t>(min_frames);
@@ -131,7 +143,7 @@ class SlamSystem::Pipeline {
         track_humans_(options.track_humans && removal_ != nullptr) {
     if (track_humans_ && options.fit_bodies) {
       body_model_ = std::make_shared<const BodyModel>(BodyModel::loadDefault());
-      body_fitter_ = std::make_unique<BodyTrackFitter>(*body_model_, options.bodies);
+      body_fitter_ = std::make_unique<BodyTrackFitter>(*body_model_, bodyFitterOptions(options));
     }
     if (options.build_map) {
       mapping_ = std::make_unique<MappingThread>(mapper_.get(), &tracker_.keyframes(), stats, options.synchronous_map,
@@ -326,6 +338,22 @@ class SlamSystem::Pipeline {
     return people;
   }
 
+  // The body thread's options: with a keypoint refiner when the detector's keypoints are MoveNet's.
+  BodyTrackFitter::Options bodyFitterOptions(const SlamOptions& options) {
+    BodyTrackFitter::Options bodies = options.bodies;
+    const std::string detector = removal_->detector().name();
+    if (!options.refine_keypoints || (detector != "learned" && detector != "movenet")) return bodies;
+    keypoint_refiner_ = std::make_shared<PoseRefiner>(options.keypoint_refiner);
+    bodies.refine_keypoints = [refiner = keypoint_refiner_](const cv::Mat& colour, const cv::Rect2f& box,
+                                                            std::array<BodyKeypoint, kCocoKeypointCount>* keypoints) {
+      std::vector<Keypoint2d> refined;
+      if (!refiner->refine(colour, {box.x, box.y, box.x + box.width, box.y + box.height}, &refined)) return false;
+      for (int k = 0; k < kCocoKeypointCount; ++k) (*keypoints)[k] = {refined[k].u, refined[k].v, refined[k].score};
+      return true;
+    };
+    return bodies;
+  }
+
   // One person's keypoints and depth to the body thread, when their track is due for a fit.
   void offerBody(const Frame& frame, const Detections& detections, const DualBBoxFilter::Person& person, int id,
                  const TrackResult& result) {
@@ -341,6 +369,10 @@ class SlamSystem::Pipeline {
     observation.timestamp = frame.timestamp;
     observation.depth = person.depth;  // shared, not copied: the filter's result is not changed after
     observation.depth_area = person.area;
+    if (keypoint_refiner_) {
+      cropAroundPerson(frame.rgb, detections.people[person.detection].box, options_.keypoint_refiner.margin,
+                       &observation);
+    }
     observation.intrinsics = frame.intrinsics;
     observation.T_w_c = result.T_w_c;
     observation.keyframe_id = result.keyframe_id;
@@ -396,6 +428,7 @@ class SlamSystem::Pipeline {
   HumanTracker humans_;
   const bool track_humans_;
   std::shared_ptr<const BodyModel> body_model_;     // with bodies.fit and a detector
+  std::shared_ptr<PoseRefiner> keypoint_refiner_;    // the body thread's, when keypoints are refined
   std::unique_ptr<BodyTrackFitter> body_fitter_;    // declared after the model it uses
   SlamRunSummary summary_;
   bool finished_ = false;

@@ -15,6 +15,7 @@
 // Thread safety: offer(), wants() and finish() from one thread (the front end); the fits run in the
 // fitter's own thread (or in offer() itself with Options::asynchronous false, for repeatable runs).
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <thread>
@@ -40,6 +41,11 @@ struct BodyObservation {
   // empty; the whole-frame image the fitter needs is made in the fitting thread.
   cv::Mat depth;
   cv::Rect depth_area;
+  // CV_8UC3 BGR: the image around the person, for Options::refine_keypoints (may be empty), its
+  // top-left corner in the frame, and the person's box in the frame (pixels).
+  cv::Mat colour;
+  cv::Point colour_origin;
+  cv::Rect2f box;
   CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();  // as tracked now
   int keyframe_id = -1;        // the frame's keyframe and pose relative to it, for the final placement
@@ -66,6 +72,12 @@ class BodyTrackFitter {
     double warm_start_gap = 0.5;   // s: an older previous fit is not a start, [0, 10]
     double weight_temporal = 1.0;  // pull towards the warm start's pose (BodyFitter::Options), [0, 100]
     bool asynchronous = true;      // false: fit inside offer() (slower; the same fits on every run)
+    // Optional: a closer look at the keypoints before each fit (e.g. PoseRefiner). Called in the
+    // fitting thread only, one call at a time, with an observation's colour and the person's box
+    // in its pixels; gives the keypoints in those pixels, or false to keep the observation's.
+    std::function<bool(const cv::Mat& colour, const cv::Rect2f& box,
+                       std::array<BodyKeypoint, kCocoKeypointCount>* keypoints)>
+        refine_keypoints;
     BodyFitter::Options fitter;
   };
 

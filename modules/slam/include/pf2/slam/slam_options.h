@@ -6,6 +6,7 @@
 #include "pf2/core/config_file.h"
 #include "pf2/core/settings.h"
 #include "pf2/detection/detector_factory.h"
+#include "pf2/detection/pose_refiner.h"
 #include "pf2/filters/dual_bbox_filter.h"
 #include "pf2/humans/body_track_fitter.h"
 #include "pf2/humans/body_tracks.h"
@@ -63,6 +64,11 @@ struct SlamOptions {
   // without keypoints every body is a standing one at the eq. 2 centre.
   bool fit_bodies = true;
   BodyTrackFitter::Options bodies;
+  // Before each fit, MoveNet looks again at a crop around the person (PoseRefiner): the
+  // whole-frame pass sees a person 3-4 m away at 40-60 network pixels. Only with the detectors
+  // whose keypoints are MoveNet's (learned, movenet).
+  bool refine_keypoints = true;
+  PoseRefiner::Options keypoint_refiner;
   BodyTrackAssembler::Options body_tracks;
   SceneOptions scene;                // scene.ply / scene.obj: the map with the bodies and tracks
   // Bounded memory on long runs: the newest 300 keyframes stay re-integrable (about 100 MB of
