@@ -35,6 +35,7 @@ const char* kUsage =
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
     "                         [--no-keypoint-offsets] [--no-side-views]\n"
     "                         [--weight-depth W] [--weight-pose W] [--weight-shape W]\n"
+    "                         [--refine] [--refine-input PX] [--refine-margin M]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
     "in every K-th frame (default 10) of a pf2_synth sequence and scores the fitted joints against\n"
     "gt/joints.txt in the camera frame. --detector gt (default): keypoints are the ground-truth\n"
@@ -44,7 +45,9 @@ const char* kUsage =
     "--no-depth fits the keypoints alone. --weight-* override BodyFitter::Options. The fitter places\n"
     "MoveNet's keypoints beside their joints (CocoJointLink::offset) unless --no-keypoint-offsets;\n"
     "with --detector gt, whose keypoints are the joints themselves, never. --no-side-views keeps every\n"
-    "depth term two-sided (BodyFitter::Options::side_view_separation 0).\n";
+    "depth term two-sided (BodyFitter::Options::side_view_separation 0). --refine (learned only): each\n"
+    "person's keypoints from MoveNet run again on a crop around them (PoseRefiner; its input side and\n"
+    "margin by --refine-input and --refine-margin), as pf2_slam does before its fits.\n";
 
 using Joints = pf2::BodyJoints;
 long long micros(double stamp) { return pf2::timestampMicros(stamp); }
@@ -125,6 +128,7 @@ int run(int argc, char** argv) {
   if (every < 1 || noise_px < 0) throw pf2::Error("--every must be >= 1 and --noise >= 0");
   if (detector_name != "gt" && detector_name != "learned") throw pf2::Error("--detector must be gt or learned");
   if (detector_name == "gt") fit_options.keypoint_offsets = false;
+  if (refine && detector_name != "learned") throw pf2::Error("--refine needs --detector learned");
   const std::string folder = positionals[0];
 
   const pf2::TumSequence sequence(folder);
@@ -142,8 +146,8 @@ int run(int argc, char** argv) {
   }
   std::unique_ptr<pf2::PoseRefiner> refiner;
   pf2::PoseRefiner::Options refine_options;
-  if (getenv("RS")) refine_options.input_size = atoi(getenv("RS"));
-  if (getenv("RM")) refine_options.margin = atof(getenv("RM"));
+  refine_options.input_size = cli.integer("--refine-input", refine_options.input_size);
+  refine_options.margin = cli.number("--refine-margin", refine_options.margin);
   if (refine) refiner = std::make_unique<pf2::PoseRefiner>(refine_options);
 
   const pf2::BodyModel model = pf2::BodyModel::loadDefault();
@@ -213,13 +217,7 @@ int run(int argc, char** argv) {
         taken[best] = true;
         const pf2::PersonDetection& d = detections.people[best];
         std::vector<pf2::Keypoint2d> keypoints = d.keypoints;
-        if (refiner) {
-          std::vector<pf2::Keypoint2d> fine = keypoints;
-          if (refiner->refine(frame.rgb, d.box, &fine)) {
-            for (int k = 0; k < pf2::kCocoKeypointCount; ++k)
-              if (!getenv("RMAX") || fine[k].score >= keypoints[k].score) keypoints[k] = fine[k];
-          }
-        }
+        if (refiner) refiner->refine(frame.rgb, d.box, &keypoints);
         for (int k = 0; k < pf2::kCocoKeypointCount; ++k) {
           input.keypoints[k] = {keypoints[k].u, keypoints[k].v, keypoints[k].score};
         }
