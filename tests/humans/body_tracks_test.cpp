@@ -286,5 +286,70 @@ TEST(BodyTrackFitter, FitsEveryNthFrameAndCountsWhatItDrops) {
   EXPECT_EQ(static_cast<int>(busy_fits.size()), accepted);
 }
 
+// Keypoint refinement: the hook gets the observation's colour, the person's box and keypoints in
+// that colour's pixels, and the keypoints it gives back (in the same pixels) are what is fitted,
+// moved back into the frame's pixels.
+TEST(BodyTrackFitter, FitsTheRefinedKeypointsInTheFramesPixels) {
+  const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
+  const BodyParameters truth = personInCamera();
+  const auto points = BodyFitter(model()).keypointPoints(truth);
+  std::array<BodyKeypoint, kCocoKeypointCount> true_keypoints{};
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    if (kCocoToBodyJoint[k].joint < 0) continue;
+    const Eigen::Vector3d& p = points[k];
+    true_keypoints[k] = {K.fx * p.x() / p.z() + K.cx, K.fy * p.y() / p.z() + K.cy, 0.9};
+  }
+  BodyObservation observation;
+  observation.track_id = 1;
+  observation.intrinsics = K;
+  observation.keypoints = true_keypoints;
+  for (BodyKeypoint& k : observation.keypoints) k.u += 40;  // the whole-frame pass, 40 px off
+  observation.colour = cv::Mat(300, 200, CV_8UC3, cv::Scalar::all(0));
+  observation.colour_origin = {150, 60};
+  observation.box = {200, 100, 80, 200};
+  const cv::Point2d origin(150, 60);
+
+  BodyTrackFitter::Options options;
+  options.asynchronous = false;
+  int calls = 0;
+  options.refine_keypoints = [&](const cv::Mat& colour, const cv::Rect2f& box,
+                                 std::array<BodyKeypoint, kCocoKeypointCount>* keypoints) {
+    ++calls;
+    EXPECT_EQ(colour.size(), cv::Size(200, 300));
+    EXPECT_EQ(box, cv::Rect2f(50, 40, 80, 200));
+    EXPECT_DOUBLE_EQ((*keypoints)[5].u, observation.keypoints[5].u - origin.x);
+    for (int k = 0; k < kCocoKeypointCount; ++k) {
+      (*keypoints)[k] = {true_keypoints[k].u - origin.x, true_keypoints[k].v - origin.y, true_keypoints[k].confidence};
+    }
+    return true;
+  };
+  // Median pixel distance of a fit's keypoints to the true ones.
+  auto pixelError = [&](const BodyTrackFit& fit) {
+    const auto fitted = BodyFitter(model()).keypointPoints(fit.body_c);
+    std::vector<double> d;
+    for (int k = 0; k < kCocoKeypointCount; ++k) {
+      if (kCocoToBodyJoint[k].joint < 0) continue;
+      const Eigen::Vector3d& p = fitted[k];
+      d.push_back(std::hypot(K.fx * p.x() / p.z() + K.cx - true_keypoints[k].u,
+                             K.fy * p.y() / p.z() + K.cy - true_keypoints[k].v));
+    }
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    return d[d.size() / 2];
+  };
+  BodyTrackFitter refined(model(), options);
+  refined.offer(observation);
+  const std::vector<BodyTrackFit> refined_fits = refined.finish();
+  ASSERT_EQ(refined_fits.size(), 1u);
+  EXPECT_EQ(calls, 1);
+  EXPECT_LT(pixelError(refined_fits[0]), 3.0);
+
+  options.refine_keypoints = nullptr;
+  BodyTrackFitter plain(model(), options);
+  plain.offer(observation);
+  const std::vector<BodyTrackFit> plain_fits = plain.finish();
+  ASSERT_EQ(plain_fits.size(), 1u);
+  EXPECT_GT(pixelError(plain_fits[0]), 30.0);
+}
+
 }  // namespace
 }  // namespace pf2

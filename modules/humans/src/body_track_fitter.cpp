@@ -92,7 +92,8 @@ BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackStat
   if (options_.refine_keypoints && !o.colour.empty()) {
     // The refiner works in the pixels of the colour it is given; the fit in the frame's.
     const cv::Rect2f box(o.box.x - o.colour_origin.x, o.box.y - o.colour_origin.y, o.box.width, o.box.height);
-    std::array<BodyKeypoint, kCocoKeypointCount> refined;
+    std::array<BodyKeypoint, kCocoKeypointCount> refined = o.keypoints;
+    for (BodyKeypoint& k : refined) k.u -= o.colour_origin.x, k.v -= o.colour_origin.y;
     if (options_.refine_keypoints(o.colour, box, &refined)) {
       for (int k = 0; k < kCocoKeypointCount; ++k) {
         input.keypoints[k] = {refined[k].u + o.colour_origin.x, refined[k].v + o.colour_origin.y, refined[k].confidence};

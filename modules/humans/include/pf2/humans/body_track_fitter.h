@@ -74,7 +74,8 @@ class BodyTrackFitter {
     bool asynchronous = true;      // false: fit inside offer() (slower; the same fits on every run)
     // Optional: a closer look at the keypoints before each fit (e.g. PoseRefiner). Called in the
     // fitting thread only, one call at a time, with an observation's colour and the person's box
-    // in its pixels; gives the keypoints in those pixels, or false to keep the observation's.
+    // in its pixels, and the observation's keypoints moved into those pixels; gives the refined
+    // keypoints there, or false to keep the observation's.
     std::function<bool(const cv::Mat& colour, const cv::Rect2f& box,
                        std::array<BodyKeypoint, kCocoKeypointCount>* keypoints)>
         refine_keypoints;
