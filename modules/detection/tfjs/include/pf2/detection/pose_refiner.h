@@ -20,7 +20,7 @@ class PoseRefiner {
   struct Options {
     int input_size = 192;   // pixels: the crop's side at the network's input, multiple of 32, [64, 512]
     double margin = 0.1;    // the crop's side is (1 + margin) times the box's longer side, [0, 2]
-    double min_iou = 0.3;   // a pose found in the crop must overlap the person's box this much, [0, 1]
+    double min_iou = 0.5;   // a pose found in the crop must overlap the person's box this much, [0, 1]
   };
 
   // Loads the MoveNet model (humanModelPath("movenet-multipose")). Throws pf2::Error when it is
