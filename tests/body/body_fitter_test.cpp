@@ -191,6 +191,36 @@ TEST(BodyFitter, APersonSeenFromTheSide) {
   EXPECT_LT(pelvis_error[1], 0.03);  // measured 21 mm
 }
 
+// A person whose feet are below the image: MoveNet puts a joint outside its input at the input's
+// edge, so the ankles' keypoints lie on the bottom row. Taken as exact, they make the fit bend the
+// legs to bring the ankles into the image; with edge_band they only say the ankles lie at or below
+// that row, and the legs stay as the knees, the depth and the prior have them.
+TEST(BodyFitter, KeypointsAtTheImageEdgeOnlyBoundTheJoint) {
+  const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
+  BodyParameters truth = knownBody();
+  truth.translation = {0.15, 0.22, 2.0};  // nearer and lower in the view: the feet leave the image
+  const BodyMesh mesh = defaultModel().evaluate(truth);
+  BodyFitInput input = keypointsOf(truth, K);
+  for (const int ankle : {15, 16}) {
+    ASSERT_GT(input.keypoints[ankle].v, K.height) << "the ankle should lie below the image";
+    input.keypoints[ankle].v = K.height - 1;  // clamped to the edge
+  }
+  for (const int knee : {13, 14}) ASSERT_LT(input.keypoints[knee].v, K.height - 17) << "the knee should be in view, off the edge";
+  input.points_c = visibleVertices(mesh, K);
+  double ankle_error[2];
+  for (const bool band : {false, true}) {
+    BodyFitter::Options options;
+    options.edge_band = band ? 16.0 : 0.0;
+    const BodyFitResult fit = BodyFitter(defaultModel(), options).fit(input, K);
+    ASSERT_TRUE(fit.valid) << fit.message;
+    ankle_error[band] = 0.5 * ((fit.joints_c[7] - mesh.joints[7]).norm() + (fit.joints_c[8] - mesh.joints[8]).norm());
+    std::printf("feet below the image, edge band %s: MPJPE %.1f mm, ankles %.1f mm off\n", band ? "16 px" : "off",
+                1000 * meanJointError(fit.joints_c, mesh.joints), 1000 * ankle_error[band]);
+  }
+  EXPECT_GT(ankle_error[0], 0.12);                  // measured 186 mm
+  EXPECT_LT(ankle_error[1], 0.6 * ankle_error[0]);  // measured 88 mm
+}
+
 TEST(BodyFitter, ExactKeypointsWithoutDepth) {
   const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
   const BodyMesh mesh = defaultModel().evaluate(knownBody());
@@ -272,6 +302,9 @@ TEST(BodyFitter, DegenerateInputGivesAnInvalidResult) {
   EXPECT_THROW(fitter.fit(nan, bad), Error);
   BodyFitter::Options options;
   options.max_iterations = 0;
+  EXPECT_THROW(BodyFitter(defaultModel(), options), Error);
+  options = BodyFitter::Options();
+  options.edge_band = 101;
   EXPECT_THROW(BodyFitter(defaultModel(), options), Error);
 }
 

@@ -115,7 +115,11 @@ struct DataTerm {
     // farther from the camera in the current pose hides behind the nearer, its measured surface
     // is the nearer's, and its depth term only keeps it from coming in front of that surface.
     int hidden_partner = -1;
+    // A keypoint at an image edge marks where the body leaves the view: the joint may lie anywhere
+    // beyond that edge, so its residual across the edge is one-sided (flags: kBeyond*).
+    int beyond = 0;
   };
+  static constexpr int kBeyondLeft = 1, kBeyondRight = 2, kBeyondTop = 4, kBeyondBottom = 8;
   const Eigen::Matrix<double, 3 * kBodyJointCount, 1>* rest;
   const Eigen::Matrix<double, 3 * kBodyJointCount, kShapes>* shapedirs;
   std::array<Keypoint, kCocoKeypointCount> keypoints;
@@ -141,8 +145,11 @@ struct DataTerm {
         // A joint behind or at the camera would divide by ~0: clamp its depth; the other terms
         // bring it back in front.
         const T z = p[2] < T(0.05) ? T(0.05) : p[2];
-        residuals[2 * k] = kp.weight_2d * (fx * p[0] / z + cx - kp.u);
-        residuals[2 * k + 1] = kp.weight_2d * (fy * p[1] / z + cy - kp.v);
+        T du = fx * p[0] / z + cx - kp.u, dv = fy * p[1] / z + cy - kp.v;
+        if (((kp.beyond & kBeyondLeft) && du < T(0)) || ((kp.beyond & kBeyondRight) && du > T(0))) du = T(0);
+        if (((kp.beyond & kBeyondTop) && dv < T(0)) || ((kp.beyond & kBeyondBottom) && dv > T(0))) dv = T(0);
+        residuals[2 * k] = kp.weight_2d * du;
+        residuals[2 * k + 1] = kp.weight_2d * dv;
       }
       if (kp.weight_depth > 0) {
         // Huber as a residual: 0.5 r^2 equals the Huber loss of the error e. The hidden one of a
@@ -257,11 +264,12 @@ BodyFitter::BodyFitter(const BodyModel& model, const Options& options) : model_(
                   options.weight_depth >= 0 && options.depth_delta > 0 && options.depth_radius_px > 0 &&
                   options.weight_pose >= 0 && options.weight_limits >= 0 && options.weight_shape >= 0 &&
                   options.weight_temporal >= 0 && options.stage1_iterations >= 0 && options.max_iterations >= 1 &&
-                  options.side_view_separation >= 0 && options.side_view_separation <= 1;
+                  options.side_view_separation >= 0 && options.side_view_separation <= 1 &&
+                  options.edge_band >= 0 && options.edge_band <= 100;
   if (!ok) {
     throw Error(
         "BodyFitter: an option is out of range (weights >= 0, iterations >= 1, radius > 0, side_view_separation in "
-        "[0, 1] m)");
+        "[0, 1] m, edge_band in [0, 100] px)");
   }
 }
 
@@ -509,6 +517,23 @@ void BodyFitter::initialPosition(const BodyFitInput& input, const Observations& 
   for (int k = 0; k < 3; ++k) x->translation[k] = pelvis_c[k] - rest_joints_[k];
 }
 
+namespace {
+
+// The image edges a keypoint at (u, v) lies within `band` pixels of, or beyond (DataTerm::kBeyond*
+// flags): MoveNet puts a joint outside its input at the input's edge, so such a keypoint only says
+// that the joint lies at or beyond that edge. 0 flags with band 0 and the keypoint in the image.
+int edgesBeyond(double u, double v, const CameraIntrinsics& K, double band) {
+  if (band <= 0 && u >= 0 && v >= 0 && u <= K.width - 1 && v <= K.height - 1) return 0;
+  int flags = 0;
+  if (u < band) flags |= DataTerm::kBeyondLeft;
+  if (u > K.width - 1 - band) flags |= DataTerm::kBeyondRight;
+  if (v < band) flags |= DataTerm::kBeyondTop;
+  if (v > K.height - 1 - band) flags |= DataTerm::kBeyondBottom;
+  return flags;
+}
+
+}  // namespace
+
 // The data term with this person's keypoints; `torso_only` keeps head, shoulders and hips (the
 // first stage, where arms and legs are still at their initial pose).
 ceres::CostFunction* BodyFitter::dataTerm(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
@@ -524,6 +549,7 @@ ceres::CostFunction* BodyFitter::dataTerm(const BodyFitInput& input, const Obser
     t.u = input.keypoints[k].u;
     t.v = input.keypoints[k].v;
     t.weight_2d = options_.weight_2d * std::sqrt(std::min(1.0, input.keypoints[k].confidence) * kCocoToBodyJoint[k].weight);
+    t.beyond = edgesBeyond(t.u, t.v, K, options_.edge_band);
     if (seen.surface[k] > 0) {
       t.depth = seen.surface[k] + kCocoToBodyJoint[k].depth_below_surface;
       t.weight_depth = options_.weight_depth * std::sqrt(kCocoToBodyJoint[k].weight);

@@ -180,6 +180,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.side_view_separation", &b.fitter.side_view_separation, 0.0, 1.0, "metres",
            "a left/right keypoint pair closer than this in the image is seen from the side: the hidden one's depth "
            "term only keeps it behind the surface it falls on (0 = off)");
+  s.number("bodies.edge_band", &b.fitter.edge_band, 0.0, 100.0, "pixels",
+           "a keypoint this close to an image edge, or beyond it, only says the joint lies at or beyond that edge");
   s.boolean("bodies.refine_keypoints", &o.refine_keypoints,
             "before each fit, MoveNet runs again on a crop around the person (learned and movenet detectors)");
   s.integer("bodies.refine_input", &o.keypoint_refiner.input_size, 64, 512, "pixels",

@@ -102,6 +102,14 @@ class BodyFitter {
     // is hidden behind the nearer and measures the nearer side's surface, so its depth term only
     // keeps it from coming in front of that surface. [0, 1] m; 0 = every depth term two-sided.
     double side_view_separation = 0.075;
+    // A keypoint within this many pixels of an image edge, or beyond it, marks where the body
+    // leaves the view (MoveNet puts a joint outside its input at the edge): its reprojection
+    // residual across that edge is one-sided, the joint may project anywhere beyond the keypoint.
+    // Without it, a leg cut by the image's bottom edge was bent to bring the ankle into the image
+    // (pf2_slam on pf2_synth: ankles out of view 31-35 cm off their pelvis-relative truth, median;
+    // 8 px: 25-27 cm). 16 was the best of 8 / 16 / 32 (docs/BENCHMARKS.md). [0, 100] px; 0 = only
+    // keypoints beyond the image.
+    double edge_band = 16.0;
     // Keypoints lie at their joint plus CocoJointLink::offset (true) or at the joint itself.
     bool keypoint_offsets = true;
     // Pose prior: zero-mean quadratic on the axis-angle of joints 1..23 (radians), residual =
