@@ -205,7 +205,9 @@ TEST(BodyFitter, KeypointsAtTheImageEdgeOnlyBoundTheJoint) {
     ASSERT_GT(input.keypoints[ankle].v, K.height) << "the ankle should lie below the image";
     input.keypoints[ankle].v = K.height - 1;  // clamped to the edge
   }
-  for (const int knee : {13, 14}) ASSERT_LT(input.keypoints[knee].v, K.height - 17) << "the knee should be in view, off the edge";
+  for (const int knee : {13, 14}) {
+    ASSERT_LT(input.keypoints[knee].v, K.height - 17) << "the knee should be in view, off the edge";
+  }
   input.points_c = visibleVertices(mesh, K);
   double ankle_error[2];
   for (const bool band : {false, true}) {

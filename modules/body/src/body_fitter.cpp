@@ -521,9 +521,8 @@ namespace {
 
 // The image edges a keypoint at (u, v) lies within `band` pixels of, or beyond (DataTerm::kBeyond*
 // flags): MoveNet puts a joint outside its input at the input's edge, so such a keypoint only says
-// that the joint lies at or beyond that edge. 0 flags with band 0 and the keypoint in the image.
+// that the joint lies at or beyond that edge. With band 0 only keypoints beyond the image are flagged.
 int edgesBeyond(double u, double v, const CameraIntrinsics& K, double band) {
-  if (band <= 0 && u >= 0 && v >= 0 && u <= K.width - 1 && v <= K.height - 1) return 0;
   int flags = 0;
   if (u < band) flags |= DataTerm::kBeyondLeft;
   if (u > K.width - 1 - band) flags |= DataTerm::kBeyondRight;
