@@ -28,6 +28,11 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->integer("filter.mask_dilation", &f->mask_dilation, 0, 50, "pixels", "dilation of a person mask");
   s->integer("filter.mask_reach", &f->mask_box_reach, 0, 200, "pixels",
              "with masks, the box and ring rules act only this near a person's mask (0 = everywhere, the paper)");
+  s->integer("filter.depth_gate_radius", &f->depth_gate.radius, 0, 100, "pixels",
+             "with masks, depth the box, ring or temporal rule removed outside the masks is given back when it lies "
+             "apart from the masked person depth within this window (0 = off, the paper)");
+  s->number("filter.depth_gate_margin", &f->depth_gate.margin, 0.0, 2.0, "metres",
+            "apart: more than this in front of the nearest or behind the farthest person depth in the window");
   s->boolean("filter.temporal", &f->temporal, "guard with the previous frame's person pixels (TemporalGuard)");
   TemporalGuard::Options& t = f->temporal_guard;
   s->number("filter.temporal_motion", &t.person_motion, 0.0, 0.5, "metres",

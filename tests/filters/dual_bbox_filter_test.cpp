@@ -344,6 +344,27 @@ TEST(DualBBoxFilter, MaskReachKeepsBoxPixelsFarFromThePerson) {
   EXPECT_EQ(everywhere.static_depth.at<float>(27, 20), 0.f);
 }
 
+// The depth gate: what the ring rule removed next to the mask but far from the person's depth is
+// given back; the arm at the person's depth and the body outside the mask stay removed.
+TEST(DualBBoxFilter, DepthGateGivesBackDepthApartFromThePerson) {
+  const Scene scene;
+  PersonDetection p = person(14, 9, 26, 26);
+  p.mask = cv::Mat::zeros(30, 40, CV_8U);
+  p.mask(cv::Rect(15, 10, 6, 12)).setTo(255);  // cols 15..20, rows 10..21
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.mask_dilation = 1;
+  const auto ungated = DualBBoxFilter(o).filter(scene.depth, detections({p}));
+  o.depth_gate = PersonDepthGate::Options{8, 0.1};
+  const auto gated = DualBBoxFilter(o).filter(scene.depth, detections({p}));
+  EXPECT_EQ(ungated.static_depth.at<float>(27, 20), 0.f);   // the ring rule took it
+  EXPECT_EQ(gated.static_depth.at<float>(27, 20), 2.5f);    // 1 m behind the person 6 rows above
+  EXPECT_EQ(gated.static_depth.at<float>(12, 13), 0.f);     // the arm, 0.08 m from the body
+  EXPECT_EQ(gated.static_depth.at<float>(23, 20), 0.f);     // the body below the mask
+  EXPECT_EQ(gated.static_depth.at<float>(15, 18), 0.f);     // the masked body
+  EXPECT_EQ(differing(gated.static_depth(cv::Rect(0, 0, 40, 26)), ungated.static_depth(cv::Rect(0, 0, 40, 26))), 0);
+}
+
 TEST(DualBBoxFilter, GeometricAdditionUsesTheEvidence) {
   const Scene scene;
   auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);

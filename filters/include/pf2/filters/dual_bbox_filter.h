@@ -33,6 +33,7 @@
 #include "pf2/core/camera_intrinsics.h"
 #include "pf2/detection/human_detector.h"
 #include "pf2/filters/geometric_addition.h"
+#include "pf2/filters/person_depth_gate.h"
 #include "pf2/filters/temporal_guard.h"
 
 namespace pf2 {
@@ -131,6 +132,8 @@ class DualBBoxFilter {
                                      // this many pixels of it (the floor at a person's feet and the
                                      // wall beside them lie in the box at the person's depth);
                                      // 0 = everywhere in the box and ring (the paper)
+    PersonDepthGate::Options depth_gate;  // with masks: removed depth apart from the person's depth
+                                     // around it is given back (PersonDepthGate; radius 0 = off)
     bool temporal = false;           // guard with last frame's person pixels (TemporalGuard)
     TemporalGuard::Options temporal_guard;
     bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
@@ -180,6 +183,7 @@ class DualBBoxFilter {
   void setOptions(const Options& options) {
     options_ = options;
     temporal_.setOptions(options.temporal_guard);
+    depth_gate_.setOptions(options.depth_gate);
     geometric_.setOptions(options.geometric_addition);
   }
 
@@ -192,6 +196,7 @@ class DualBBoxFilter {
   // Working images kept between calls: allocating them anew costs more than filling them.
   cv::Mat depth_, state_, outside_;
   TemporalGuard temporal_;
+  PersonDepthGate depth_gate_;
   GeometricAddition geometric_;
 };
 
