@@ -33,12 +33,13 @@ struct Scene {
   }
 };
 
-void run(benchmark::State& state, bool mask, bool temporal, bool geometric) {
+void run(benchmark::State& state, bool mask, bool temporal, bool geometric, int depth_gate_radius = 0) {
   const Scene scene;
   pf2::DualBBoxFilter::Options options;
   options.use_mask = mask;
   options.temporal = temporal;
   options.geometric = geometric;
+  options.depth_gate.radius = depth_gate_radius;
   pf2::DualBBoxFilter filter(options);
   filter.setIntrinsics(scene.intrinsics);
   auto evidence = std::make_shared<pf2::PredictedDepthEvidence>();
@@ -59,12 +60,14 @@ void BM_DualBBoxTemporal(benchmark::State& s) { run(s, false, true, false); }
 void BM_DualBBoxGeometric(benchmark::State& s) { run(s, false, false, true); }
 void BM_DualBBoxMaskTemporal(benchmark::State& s) { run(s, true, true, false); }  // pf2_slam's default
 void BM_DualBBoxAll(benchmark::State& s) { run(s, true, true, true); }
+void BM_DualBBoxAllGated(benchmark::State& s) { run(s, true, true, true, 45); }  // + the depth gate at pf2_slam's radius
 BENCHMARK(BM_DualBBoxPaper)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DualBBoxMask)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DualBBoxTemporal)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DualBBoxGeometric)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DualBBoxMaskTemporal)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DualBBoxAll)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DualBBoxAllGated)->Unit(benchmark::kMillisecond);
 
 // The 20-pixel disc dilation of a person's mask area (the filter's mask reach): OpenCV's elliptic
 // cv::dilate (argument 0) against dilatedByDisc from the kernel's row spans (1, what the filter uses).

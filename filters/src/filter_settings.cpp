@@ -46,6 +46,9 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->number("filter.candidate_min_dynamic", &f->geometric_addition.candidate_min_dynamic, 0.0, 1.0, "fraction",
             "share of a detector candidate's measured pixels in front of the prediction that makes it a person "
             "(0 = candidates ignored)");
+  s->number("filter.candidate_min_score", &f->geometric_addition.candidate_min_score, 0.0, 1.0, "",
+            "a detector candidate at least this sure (mean mask probability) is a person without evidence "
+            "(0 = evidence always needed)");
   s->integer("filter.candidate_memory", &f->geometric_addition.candidate_memory, 0, 254, "frames",
              "a confirmed candidate stays one without fresh evidence while it follows a confirmed region or person");
   s->boolean("filter.keep_static", &f->geometric_addition.keep_static,

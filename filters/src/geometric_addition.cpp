@@ -51,7 +51,8 @@ void GeometricAddition::confirmCandidates(const cv::Mat& depth, const Detections
     cv::Rect area;
     const cv::Mat grown = dilatedOnArea(candidate.mask, mask_dilation, &area);
     if (area.empty()) continue;
-    const int age = candidateAge(depth(area), candidate.mask(area), (*dynamic)(area), confirmed_age_(area));
+    const bool sure = options_.candidate_min_score > 0.0 && candidate.score >= options_.candidate_min_score;
+    const int age = sure ? 0 : candidateAge(depth(area), candidate.mask(area), (*dynamic)(area), confirmed_age_(area));
     if (age == kNotConfirmed) continue;
     (*dynamic)(area).setTo(255, grown);
     cv::Mat ages(area.size(), CV_8U, cv::Scalar(kNotConfirmed));

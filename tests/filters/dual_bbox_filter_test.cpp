@@ -431,6 +431,36 @@ TEST(DualBBoxFilter, GeometricEvidenceConfirmsACandidateAndCarriesIt) {
   EXPECT_EQ(removedOnBody(fresh), 20);
 }
 
+// candidate_min_score: a candidate the detector is sure of (its mean mask probability) is a person
+// even where the prediction shows it as static (a person present since the first keyframe);
+// one it is less sure of still needs evidence.
+TEST(DualBBoxFilter, SureCandidateNeedsNoEvidence) {
+  cv::Mat depth(30, 40, CV_32F, cv::Scalar(3.0f));
+  const cv::Rect body(10, 5, 10, 20);
+  depth(body).setTo(2.0f);
+  PersonDetection candidate;
+  candidate.mask = cv::Mat::zeros(30, 40, CV_8U);
+  candidate.mask(body).setTo(255);
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(depth.clone());  // everything static to the prediction
+  DualBBoxFilter::Options o = testOptions();
+  o.geometric = true;
+  o.mask_dilation = 0;
+  o.geometric_addition.candidate_min_score = 0.95;
+  auto removedOnBody = [&](float score) {
+    candidate.score = score;
+    Detections seen;
+    seen.candidates = {candidate};
+    DualBBoxFilter filter(o);
+    filter.setDynamicEvidence(evidence);
+    return cv::countNonZero(filter.filter(depth, seen).removed(body));
+  };
+  EXPECT_EQ(removedOnBody(0.97f), 200);
+  EXPECT_EQ(removedOnBody(0.93f), 0);
+  o.geometric_addition.candidate_min_score = 0.0;  // off: evidence always needed
+  EXPECT_EQ(removedOnBody(0.97f), 0);
+}
+
 // keep_static: where the prediction knows the depth as static, what only the ring (or box, or
 // temporal) rule removed is given back; a person's mask is never given back.
 TEST(DualBBoxFilter, KeepStaticGivesBackWhatOnlyTheRulesRemoved) {

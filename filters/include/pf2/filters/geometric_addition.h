@@ -40,6 +40,9 @@ class GeometricAddition {
     int candidate_memory = 30;           // frames a candidate lying mostly (half its pixels) on last
                                          // frame's confirmed pixels or detected people stays
                                          // confirmed without fresh evidence, in [0, 254]
+    double candidate_min_score = 0.0;    // a candidate whose score (the detector's mean mask
+                                         // probability) is at least this is a person without any
+                                         // evidence; in [0, 1], 0 = evidence always needed
     bool keep_static = false;            // report depth the evidence knows as static (knownStatic)
   };
 
