@@ -28,8 +28,8 @@ DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   options.geometric_addition.keep_static = true;
   // Depth the box, ring or temporal rule took beside a mask but apart from the person's depth
   // there is given back (PersonDepthGate): pf2_synth hard cases 92.2 -> 94.2 % of the static depth
-  // kept on average, 96.2 -> 96.0 % of the people removed; Bonn crowd windows 1.92 -> 1.57 cm mean
-  // (docs/BENCHMARKS.md).
+  // kept on average, 96.2 -> 96.0 % of the people removed; Bonn crowd windows 1.92 -> 1.57 cm mean,
+  // within the +-0.15 cm any small filter change moves them (docs/BENCHMARKS.md).
   options.depth_gate.radius = 45;
   // A selfie component without a MoveNet pose that the segmenter is this sure of is a person even
   // without evidence: someone present since the first keyframe (so static to the prediction), cut
