@@ -409,7 +409,9 @@ cv::Mat personCore(const cv::Mat& depth, const std::vector<FilterBox>& boxes, co
       const float* d = depth.ptr<float>(v);
       const uint8_t* m = mask.ptr<uint8_t>(v);
       uint8_t* c = core.ptr<uint8_t>(v);
-      for (int u = a.x; u < a.x + a.width; ++u) c[u] |= static_cast<uint8_t>(-static_cast<int>(m[u] && h.contains(d[u])));
+      for (int u = a.x; u < a.x + a.width; ++u) {
+        if (m[u] && h.contains(d[u])) c[u] = 255;
+      }
     }
   }
   return core;
