@@ -49,6 +49,8 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->number("filter.candidate_min_score", &f->geometric_addition.candidate_min_score, 0.0, 1.0, "",
             "a detector candidate at least this sure (mean mask probability) is a person without evidence "
             "(0 = evidence always needed)");
+  s->number("filter.candidate_min_front", &f->geometric_addition.candidate_min_front, 0.0, 2.0, "metres",
+            "... and lies at least this in front of the depth around it (0 = no such test)");
   s->integer("filter.candidate_memory", &f->geometric_addition.candidate_memory, 0, 254, "frames",
              "a confirmed candidate stays one without fresh evidence while it follows a confirmed region or person");
   s->boolean("filter.keep_static", &f->geometric_addition.keep_static,

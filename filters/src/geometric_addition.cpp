@@ -1,5 +1,8 @@
 #include "pf2/filters/geometric_addition.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "pf2/core/error.h"
 #include "image_ops.h"
 
@@ -51,8 +54,9 @@ void GeometricAddition::confirmCandidates(const cv::Mat& depth, const Detections
     cv::Rect area;
     const cv::Mat grown = dilatedOnArea(candidate.mask, mask_dilation, &area);
     if (area.empty()) continue;
-    const bool sure = options_.candidate_min_score > 0.0 && candidate.score >= options_.candidate_min_score;
-    const int age = sure ? 0 : candidateAge(depth(area), candidate.mask(area), (*dynamic)(area), confirmed_age_(area));
+    const int age = sure(depth, candidate)
+                        ? 0
+                        : candidateAge(depth(area), candidate.mask(area), (*dynamic)(area), confirmed_age_(area));
     if (age == kNotConfirmed) continue;
     (*dynamic)(area).setTo(255, grown);
     cv::Mat ages(area.size(), CV_8U, cv::Scalar(kNotConfirmed));
@@ -61,6 +65,39 @@ void GeometricAddition::confirmCandidates(const cv::Mat& depth, const Detections
     cv::min(target, ages, target);
   }
   cv::swap(confirmed_age_, next_age_);
+}
+
+namespace {
+
+constexpr int kSurroundRadius = 15;  // pixels: the band around a candidate its depth is compared with
+
+// Median of the measured depths (> 0) of `depth` where `mask` is set; 0 when there are none.
+float medianDepth(const cv::Mat& depth, const cv::Mat& mask) {
+  std::vector<float> values;
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const uint8_t* m = mask.ptr<uint8_t>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (m[u] && d[u] > 0.f) values.push_back(d[u]);
+    }
+  }
+  if (values.empty()) return 0.f;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+}  // namespace
+
+// A candidate the detector is sure of, standing in front of what surrounds it.
+bool GeometricAddition::sure(const cv::Mat& depth, const PersonDetection& candidate) const {
+  if (!(options_.candidate_min_score > 0.0) || candidate.score < options_.candidate_min_score) return false;
+  if (!(options_.candidate_min_front > 0.0)) return true;
+  cv::Rect area;
+  const cv::Mat grown = dilatedOnArea(candidate.mask, kSurroundRadius, &area);
+  const cv::Mat inside = candidate.mask(area) > 0;
+  const float person = medianDepth(depth(area), inside);
+  const float around = medianDepth(depth(area), grown & ~inside);
+  return person > 0.f && around > 0.f && around - person >= options_.candidate_min_front;
 }
 
 // 0 with fresh evidence, 1 + the youngest age under it when carried, else kNotConfirmed.

@@ -431,9 +431,9 @@ TEST(DualBBoxFilter, GeometricEvidenceConfirmsACandidateAndCarriesIt) {
   EXPECT_EQ(removedOnBody(fresh), 20);
 }
 
-// candidate_min_score: a candidate the detector is sure of (its mean mask probability) is a person
-// even where the prediction shows it as static (a person present since the first keyframe);
-// one it is less sure of still needs evidence.
+// candidate_min_score: a candidate the detector is sure of (its mean mask probability) and that
+// stands in front of its surroundings is a person even where the prediction shows it as static (a
+// person present since the first keyframe); one it is less sure of still needs evidence.
 TEST(DualBBoxFilter, SureCandidateNeedsNoEvidence) {
   cv::Mat depth(30, 40, CV_32F, cv::Scalar(3.0f));
   const cv::Rect body(10, 5, 10, 20);
@@ -455,8 +455,15 @@ TEST(DualBBoxFilter, SureCandidateNeedsNoEvidence) {
     filter.setDynamicEvidence(evidence);
     return cv::countNonZero(filter.filter(depth, seen).removed(body));
   };
-  EXPECT_EQ(removedOnBody(0.97f), 200);
+  EXPECT_EQ(removedOnBody(0.97f), 200);  // 1 m in front of the wall around it
   EXPECT_EQ(removedOnBody(0.93f), 0);
+  // Flush with the wall (0.1 m in front, under candidate_min_front = 0.2): the selfie model's false
+  // components on plain or blurred walls look like this.
+  depth(body).setTo(2.9f);
+  evidence->setPrediction(depth.clone());
+  EXPECT_EQ(removedOnBody(0.97f), 0);
+  o.geometric_addition.candidate_min_front = 0.0;  // no such test
+  EXPECT_EQ(removedOnBody(0.97f), 200);
   o.geometric_addition.candidate_min_score = 0.0;  // off: evidence always needed
   EXPECT_EQ(removedOnBody(0.97f), 0);
 }

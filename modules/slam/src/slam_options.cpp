@@ -34,9 +34,10 @@ DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   // A selfie component without a MoveNet pose that the segmenter is this sure of is a person even
   // without evidence: someone present since the first keyframe (so static to the prediction), cut
   // by the border or seated, is otherwise fused into the map. pf2_synth hard cases 96.0 -> 97.9 %
-  // of the people removed (rpy 90.3 -> 95.1), seed 1 ATE 2.4 -> 0.8 mm (static). On TUM fr1/rpy
-  // (no people) the selfie model's false components reach it rarely: 1.36 -> 1.38 % of the depth
-  // removed (0.94: 2.38 %, 0.96: none added); docs/BENCHMARKS.md.
+  // of the people removed (rpy 90.3 -> 95.1), seed 1 ATE 2.4 -> 0.8 mm (static). The selfie
+  // model's few false components this sure on TUM fr1/rpy (no people) lie flat on the scene, and
+  // the candidate's front test (GeometricAddition::Options::candidate_min_front) drops them;
+  // docs/BENCHMARKS.md.
   options.geometric_addition.candidate_min_score = 0.95;
   return options;
 }

@@ -43,6 +43,10 @@ class GeometricAddition {
     double candidate_min_score = 0.0;    // a candidate whose score (the detector's mean mask
                                          // probability) is at least this is a person without any
                                          // evidence; in [0, 1], 0 = evidence always needed
+    double candidate_min_front = 0.2;    // m: ... and whose median depth lies at least this in front
+                                         // of the median depth around it (a person stands before
+                                         // the background; the selfie model's false components on
+                                         // walls do not), in [0, 2], 0 = no such test
     bool keep_static = false;            // report depth the evidence knows as static (knownStatic)
   };
 
@@ -69,6 +73,7 @@ class GeometricAddition {
  private:
   void confirmCandidates(const cv::Mat& depth, const Detections& detections, double min_confidence,
                          int mask_dilation, cv::Mat* dynamic);
+  bool sure(const cv::Mat& depth, const PersonDetection& candidate) const;
   int candidateAge(const cv::Mat& depth, const cv::Mat& mask, const cv::Mat& dynamic,
                    const cv::Mat& previous_age) const;
 
