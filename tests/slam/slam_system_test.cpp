@@ -151,22 +151,33 @@ TEST(SlamSystem, RealTumRpyTracksBetterWithTheWiderPhotometricThreshold) {
   EXPECT_LT(wide, 0.011);
 }
 
-TEST(SlamSystem, BlindFramesAreLostNotInvented) {
-  const SyntheticSequence sequence(smallSequence(0, 40));
-  const BlankedSource source(sequence, 15, 20);
+// 40 frames, 15-19 without depth or colour; two frames may be bridged before the camera is lost.
+SlamOptions blindFramesOptions() {
   SlamOptions options;
   options.detector = "none";
   options.progress = false;
   options.build_map = false;
   options.tracker.asynchronous_backend = false;
   options.tracker.max_bridged_frames = 2;
+  return options;
+}
+
+void expectFrameCounts(const SlamRunSummary& summary, int bridged, int lost, int relocalised) {
+  EXPECT_EQ(summary.bridged, bridged);
+  EXPECT_EQ(summary.lost, lost);
+  EXPECT_EQ(summary.relocalised, relocalised);
+}
+
+TEST(SlamSystem, BlindFramesAreLostNotInvented) {
+  const SyntheticSequence sequence(smallSequence(0, 40));
+  const BlankedSource source(sequence, 15, 20);
+  SlamOptions options = blindFramesOptions();
+  options.gaps.max_gap = 0;  // as tracking left them (the next test fills them)
   SlamSystem system(options);
   const std::string out = testing::TempDir() + "pf2_slam_blind";
   const SlamRunSummary summary = system.run(source, "", out);
   // Frames 15 and 16 are bridged (prior pose), 17-19 lost, 20 relocalised.
-  EXPECT_EQ(summary.bridged, 2);
-  EXPECT_EQ(summary.lost, 3);
-  EXPECT_EQ(summary.relocalised, 1);
+  expectFrameCounts(summary, 2, 3, 1);
   ASSERT_EQ(system.trajectory().size(), 37u);
   for (const StampedPose& pose : system.trajectory()) {
     for (int i = 17; i < 20; ++i) EXPECT_NE(pose.timestamp, sequence.timestamp(i));
@@ -181,6 +192,26 @@ TEST(SlamSystem, BlindFramesAreLostNotInvented) {
   EXPECT_EQ(lost_entries, 3u);
   // After relocalisation the poses are right again.
   EXPECT_LT(computeAte(groundTruth(sequence), system.trajectory()).translation.rmse, 0.01);
+}
+
+TEST(SlamSystem, BlindFramesBetweenMeasuredOnesGetInterpolatedPoses) {
+  const SyntheticSequence sequence(smallSequence(0, 40));
+  const BlankedSource source(sequence, 15, 20);
+  SlamSystem system(blindFramesOptions());
+  const std::string out = testing::TempDir() + "pf2_slam_blind_filled";
+  const SlamRunSummary summary = system.run(source, "", out);
+  // Frames 15-19 lie between measured frames 14 and 20 (relocalised): all five are bridged now.
+  expectFrameCounts(summary, 5, 0, 1);
+  ASSERT_EQ(system.trajectory().size(), 40u);
+  const std::string stats = readAll(out + "/stats.json");
+  EXPECT_NE(stats.find("\"bridged\":5,"), std::string::npos) << stats;
+  EXPECT_EQ(stats.find("\"status\":\"lost\""), std::string::npos) << stats;
+  const Trajectory truth = groundTruth(sequence);
+  const AteResult ate = computeAte(truth, system.trajectory());
+  std::printf("blind frames filled: ATE rmse %.2f mm, max %.2f mm\n", 1000 * ate.translation.rmse,
+              1000 * ate.translation.max);
+  EXPECT_LT(ate.translation.rmse, 0.01);
+  EXPECT_LT(ate.translation.max, 0.01);
 }
 
 // Whatever the frames, no written pose is more than a short hop from its neighbours: rejected

@@ -136,6 +136,11 @@ void trackerSettings(SlamOptions& o, Settings& s) {
   s.number("trajectory.acceleration_noise", &o.trajectory.acceleration_noise, 0.01, 1000.0, "m/s^2",
            "typical acceleration of the camera, for the smoothing of trajectory.txt");
   s.number("trajectory.max_gap", &o.trajectory.max_gap, 0.0, 60.0, "seconds", "frames further apart: smoothed apart");
+  s.number("trajectory.fill_gaps", &o.gaps.max_gap, 0.0, 60.0, "seconds",
+           "frames without a measured pose (bridged or lost) between two measured frames at most this far apart get "
+           "poses interpolated between them at the end of the run (0 = never)");
+  s.number("trajectory.fill_velocity_window", &o.gaps.velocity_window, 0.01, 5.0, "seconds",
+           "a filled gap's end velocities are measured over this much time before and after it");
   s.number("tracker.min_agreement", &t.min_tracking_agreement, 0.0, 1.0, "fraction",
            "a frame's alignment to its keyframe needs this share of inliers among its associated points "
            "(else the previous frame is tried; 0 = no check)");

@@ -199,6 +199,9 @@ class SlamSystem::Pipeline {
     finished_ = true;
     tracker_.finish();
     if (mapping_) mapping_->finish();
+    // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
+    const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker_.keyframes().poses();
+    fillTrackingGaps(keyframe_poses);
     SlamResult result;
     result.summary = summary_;
     result.summary.keyframes = static_cast<int>(tracker_.keyframes().size());
@@ -206,8 +209,6 @@ class SlamSystem::Pipeline {
     result.summary.local_edges = tracker_.backend().localEdges();
     result.summary.seconds = std::chrono::duration<double>(last_frame_end_ - first_frame_).count();
     result.summary.fps = result.summary.seconds > 0 ? result.summary.frames / result.summary.seconds : 0.0;
-    // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
-    const std::map<int, Eigen::Isometry3d> keyframe_poses = tracker_.keyframes().poses();
     std::vector<bool> restarts;  // a relocalised pose does not follow from the one before
     for (const FrameRecord& record : records_) {
       result.frame_status.emplace_back(record.timestamp, record.status);
@@ -270,6 +271,33 @@ class SlamSystem::Pipeline {
 
   // A person re-identified after a few frames under a new id (HumanTracker::Options::reid_after)
   // was reported, and offered to the body thread, under that id: the final tracks use the old one.
+  // The frames tracking could not measure between two measured ones get poses interpolated
+  // between those (GapInterpolator): bridged frames, anchored to the keyframe before the gap, so
+  // that trajectory.txt, the people and the bodies all use them.
+  void fillTrackingGaps(const std::map<int, Eigen::Isometry3d>& keyframe_poses) {
+    std::vector<RunFrame> frames(records_.size());
+    for (size_t k = 0; k < records_.size(); ++k) {
+      const FrameRecord& record = records_[k];
+      frames[k].timestamp = record.timestamp;
+      frames[k].has_pose = record.has_pose;
+      frames[k].measured = record.has_pose && (record.status == TrackStatus::kOk ||
+                                               record.status == TrackStatus::kRelocalised);
+      if (record.has_pose) frames[k].T_w_c = keyframe_poses.at(record.keyframe_id) * record.T_k_c;
+    }
+    for (size_t k : GapInterpolator(options_.gaps).fill(&frames)) {
+      FrameRecord& record = records_[k];
+      if (!record.has_pose) {  // a lost frame now has a pose
+        --summary_.lost;
+        ++summary_.tracked;
+        ++summary_.bridged;
+      }
+      record.has_pose = true;
+      record.status = TrackStatus::kBridged;
+      record.keyframe_id = records_[k - 1].keyframe_id;  // the gap's measured frame or the filled one before
+      record.T_k_c = keyframe_poses.at(record.keyframe_id).inverse() * frames[k].T_w_c;
+    }
+  }
+
   void relabelReidentified() {
     for (FrameRecord& record : records_) {
       for (auto& [id, p_c] : record.people_c) id = humans_.resolvedId(id);

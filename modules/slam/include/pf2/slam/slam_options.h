@@ -12,6 +12,7 @@
 #include "pf2/humans/body_tracks.h"
 #include "pf2/humans/human_tracker.h"
 #include "pf2/registration/tracker.h"
+#include "pf2/registration/gap_interpolator.h"
 #include "pf2/registration/trajectory_smoother.h"
 #include "pf2/slam/keyframe_prediction.h"
 #include "pf2/slam/scene_export.h"
@@ -43,6 +44,9 @@ struct SlamOptions {
   // trajectory.txt's positions smoothed over time at the end of the run (TrajectorySmoother);
   // the map, the people and the live poses use the poses as measured.
   TrajectorySmoother::Options trajectory;
+  // Frames tracking could not measure (bridged or lost) between two measured ones get poses
+  // interpolated between them at the end of the run, before the smoothing (GapInterpolator).
+  GapInterpolator::Options gaps;
   // Human trajectories (paper eq. 2-3): each filtered person's centre in the world frame of
   // trajectory.txt, associated into tracks and written to humans.txt (needs a detector).
   bool track_humans = true;
