@@ -8,9 +8,9 @@
 // slerped between the two ends. A gap longer than max_gap, or one without a measured frame after
 // it (the run ended), keeps what tracking gave it.
 //
-// On pf2_synth xyz with 5 people, halfsphere camera, seed 8 (a close person fills the view, their
-// depth below the sensor's range): 17 bridged frames drifted 12 cm along the faded prior and 8 were
-// lost; filled, the ATE went 15.6 -> 3 mm and 292 -> 300 of 300 frames have a pose
+// On pf2_synth with 5 people, halfsphere camera, seed 8 (a close person fills the view, nearer
+// than the sensor's range): 16 bridged frames drifted 12 cm along the faded prior and 8 were lost;
+// filled, the ATE went 15.6 -> 2.5 mm and 292 -> 300 of 300 frames have a pose
 // (docs/BENCHMARKS.md, "Tracking with the learned detector"). Thread safe (const).
 #include <vector>
 
