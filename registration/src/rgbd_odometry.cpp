@@ -301,7 +301,8 @@ Accumulator accumulate(const RgbdOdometry::Options& options, const OdometryLevel
 
       // Point-to-plane: r = n . (q - p_ref), J = [n, q x n].
       const float r_g = nrm.dot(q - p_ref);
-      const float sigma_g = static_cast<float>(options.depth_sigma) * q.z() * q.z();
+      const float z_noise = std::max(q.z(), static_cast<float>(options.depth_sigma_floor_depth));
+      const float sigma_g = static_cast<float>(options.depth_sigma) * z_noise * z_noise;
       const float w_g = static_cast<float>(huberWeight(r_g / sigma_g, options.huber_k)) / (sigma_g * sigma_g);
       J.head<3>() = nrm;
       J.tail<3>() = q.cross(nrm);

@@ -123,6 +123,29 @@ TEST_F(RenderedPair, PersonMaskKeepsAMovingOccluderOut) {
   EXPECT_LT(rotationErrorDeg(result.T_ref_cur, T_ref_cur_true), 0.05);
 }
 
+// A person nobody removed, 0.75 m from the camera in the reference and 0.70 m in the current
+// frame (a step towards it), in front of a room 2-4 m away. Under the z^2 noise model all the way
+// down, their points would weigh 10-30 times the room's each and pull the pose along.
+TEST_F(RenderedPair, NearPointsWeighNoMoreThanAtTheFloorDepth) {
+  const cv::Rect person(200, 60, 180, 400);
+  ref.depth(person).setTo(0.75f);
+  cur.depth(person).setTo(0.70f);
+  ref.rgb(person).setTo(cv::Scalar::all(128));  // plain clothes: only the depth term sees them
+  cur.rgb(person).setTo(cv::Scalar::all(128));
+  auto translationErrorWith = [&](double floor_depth) {
+    RgbdOdometry::Options options;
+    options.depth_sigma_floor_depth = floor_depth;
+    RgbdOdometry odometry(options);
+    OdometryFrame a = odometry.prepare(ref), b = odometry.prepare(cur);
+    odometry.makeReference(&a);
+    return translationError(odometry.estimate(a, &b, Eigen::Isometry3d::Identity()).T_ref_cur, T_ref_cur_true);
+  };
+  const double z_squared = translationErrorWith(0.0), floored = translationErrorWith(1.0);
+  std::printf("unremoved near person: translation error %.2f mm (z^2 model), %.2f mm (floor at 1 m)\n",
+              1000 * z_squared, 1000 * floored);
+  EXPECT_LT(floored, 0.6 * z_squared);
+}
+
 TEST_F(RenderedPair, UnusableFramesAreNotValid) {
   RgbdOdometry odometry;
   OdometryFrame a = odometry.prepare(ref);

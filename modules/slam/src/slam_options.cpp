@@ -110,6 +110,8 @@ void odometrySettings(RgbdOdometry::Options& d, Settings& s) {
            "motion prior per frame (0 = none)");
   s.number("tracker.prior_sigma_rotation", &d.prior_sigma_rotation, 0.0, kPi, "radians", "motion prior per frame (0 = none)");
   s.number("tracker.depth_sigma", &d.depth_sigma, 1e-4, 1.0, "metres", "depth noise at 1 m (grows with z squared)");
+  s.number("tracker.depth_sigma_floor", &d.depth_sigma_floor_depth, 0.0, 10.0, "metres",
+           "nearer points are weighted as if at this depth (0 = the z squared noise all the way)");
   s.number("tracker.intensity_sigma", &d.intensity_sigma, 1e-3, 1.0, "intensity", "largest photometric noise");
   s.number("tracker.min_intensity_sigma", &d.min_intensity_sigma, 0.0, 1.0, "intensity",
            "smallest measured photometric noise (0 = always tracker.intensity_sigma)");
