@@ -93,7 +93,7 @@ void filterSettings(SlamOptions& o, Settings& s) {
   declareFilterSettings(&o.filter, &s);
   s.number("filter.geometric_margin", &o.geometric_margin, 0.01, 2.0, "metres", "in front of the prediction by more: dynamic");
   s.integer("filter.geometric_opening", &o.geometric_opening, 0, 50, "pixels", "opening radius of the dynamic mask");
-  s.integer("filter.geometric_keyframes", &o.prediction.keyframes, 1, 10, "keyframes", "keyframes the prediction is made from");
+  s.integer("filter.geometric_keyframes", &o.prediction.keyframes, 1, 30, "keyframes", "keyframes the prediction is made from");
   s.number("filter.static_margin", &o.static_margin, 0.0, 1.0, "metres",
            "plus 1 % of the depth: this close to the prediction is known static (filter.keep_static)");
 }
