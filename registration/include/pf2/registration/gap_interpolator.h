@@ -11,7 +11,7 @@
 // On pf2_synth with 5 people, halfsphere camera, seed 8 (a close person fills the view, nearer
 // than the sensor's range): 16 bridged frames drifted 12 cm along the faded prior and 8 were lost;
 // filled, the ATE went 15.6 -> 2.5 mm and 292 -> 300 of 300 frames have a pose
-// (docs/BENCHMARKS.md, "Tracking with the learned detector"). Thread safe (const).
+// (docs/BENCHMARKS.md, "More pf2_synth sequences"). Thread safe (const).
 #include <vector>
 
 #include <Eigen/Geometry>

@@ -81,7 +81,7 @@ class RgbdOdometry {
     // z^2 model all the way): the model's tiny noise close to the lens gave a person a metre away
     // 10-600 times the weight of the room behind them, so one the detector missed pulled the pose
     // with them (pf2_synth xyz, 5 people, seed 7: ATE 38 -> 24 mm; the shared real and synthetic
-    // sequences unchanged within 0.1 mm; docs/BENCHMARKS.md, "Sequences kept aside").
+    // sequences unchanged within 0.1 mm; docs/BENCHMARKS.md, "More pf2_synth sequences").
     double depth_sigma_floor_depth = 1.0;
     double photometric_weight = 1.0; // relative weight of the photometric term (0 = ICP only)
     double huber_k = 1.345;          // Huber threshold on the normalised point-to-plane residuals
