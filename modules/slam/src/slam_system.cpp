@@ -269,8 +269,6 @@ class SlamSystem::Pipeline {
     return removal;
   }
 
-  // A person re-identified after a few frames under a new id (HumanTracker::Options::reid_after)
-  // was reported, and offered to the body thread, under that id: the final tracks use the old one.
   // The frames tracking could not measure between two measured ones get poses interpolated
   // between those (GapInterpolator): bridged frames, anchored to the keyframe before the gap, so
   // that trajectory.txt, the people and the bodies all use them.
@@ -298,6 +296,8 @@ class SlamSystem::Pipeline {
     }
   }
 
+  // A person re-identified after a few frames under a new id (HumanTracker::Options::reid_after)
+  // was reported, and offered to the body thread, under that id: the final tracks use the old one.
   void relabelReidentified() {
     for (FrameRecord& record : records_) {
       for (auto& [id, p_c] : record.people_c) id = humans_.resolvedId(id);
