@@ -33,7 +33,9 @@ bool GapInterpolator::endVelocity(const std::vector<RunFrame>& frames, size_t en
   size_t far = end;
   for (long k = static_cast<long>(end) + step; k >= 0 && k < static_cast<long>(frames.size()); k += step) {
     const RunFrame& frame = frames[static_cast<size_t>(k)];
-    if (!frame.measured || std::abs(frame.timestamp - frames[end].timestamp) > options_.velocity_window) break;
+    // Of two neighbours, the later one's restart cuts the motion between them.
+    const bool cut = step < 0 ? frames[static_cast<size_t>(k) + 1].restarts : frame.restarts;
+    if (!frame.measured || cut || std::abs(frame.timestamp - frames[end].timestamp) > options_.velocity_window) break;
     far = static_cast<size_t>(k);
   }
   const double dt = frames[end].timestamp - frames[far].timestamp;

@@ -78,6 +78,21 @@ TEST(GapInterpolator, LeavesGapsWithoutTwoMeasuredEndsOrTooLong) {
   EXPECT_TRUE(GapInterpolator(off).fill(&short_gap).empty());
 }
 
+TEST(GapInterpolator, NoEndVelocityAcrossARestart) {
+  // At rest at the origin; frame 20 relocalised 1 m away (a restart), measured again at rest there
+  // from frame 26 after a gap: the jump into frame 20 is no velocity, so the gap stays between
+  // the two ends (no overshoot of 1 m / 33 ms).
+  std::vector<RunFrame> run(40);
+  for (int i = 0; i < 40; ++i) {
+    run[i].timestamp = i / 30.0;
+    run[i].measured = run[i].has_pose = i < 21 || i >= 26;
+    run[i].restarts = i == 20;
+    if (i >= 20) run[i].T_w_c.translation() = Eigen::Vector3d(1.0, 0.0, 0.0);
+  }
+  ASSERT_EQ(GapInterpolator(GapInterpolator::Options()).fill(&run).size(), 5u);
+  for (int i = 21; i < 26; ++i) EXPECT_NEAR(run[i].T_w_c.translation().x(), 1.0, 1e-9) << "frame " << i;
+}
+
 TEST(GapInterpolator, OneMeasuredFrameAtAnEndGivesTheMeanVelocity) {
   // Measured frames 0 and 10 only, at rest and 1 m apart: without neighbours to measure the end
   // velocities, the gap is crossed at its mean velocity, i.e. linearly.

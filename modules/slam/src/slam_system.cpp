@@ -280,6 +280,7 @@ class SlamSystem::Pipeline {
       frames[k].has_pose = record.has_pose;
       frames[k].measured = record.has_pose && (record.status == TrackStatus::kOk ||
                                                record.status == TrackStatus::kRelocalised);
+      frames[k].restarts = record.status == TrackStatus::kRelocalised;
       if (record.has_pose) frames[k].T_w_c = keyframe_poses.at(record.keyframe_id) * record.T_k_c;
     }
     for (size_t k : GapInterpolator(options_.gaps).fill(&frames)) {

@@ -23,6 +23,8 @@ struct RunFrame {
   double timestamp = 0;
   bool measured = false;  // the pose was measured (tracked or relocalised); false: bridged or lost
   bool has_pose = false;  // a pose at all (measured frames always have one)
+  bool restarts = false;  // relocalised: the motion from the frame before is unknown, so no end
+                          // velocity is measured across it
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
 };
 
@@ -44,7 +46,7 @@ class GapInterpolator {
 
  private:
   // The velocity over the measured frames from `end` stepping by `step` (-1: before, +1: after)
-  // within velocity_window; false when there are not two such frames.
+  // within velocity_window and not across a restart; false when there are not two such frames.
   bool endVelocity(const std::vector<RunFrame>& frames, size_t end, int step, Eigen::Vector3d* velocity) const;
   void fillGap(size_t before, size_t after, std::vector<RunFrame>* frames) const;
 
