@@ -101,8 +101,8 @@ std::vector<double> lensDistortion(const std::string& name, const pf2::CameraInt
 void printSummary(const std::string& sequence, const pf2::SlamRunSummary& s, const pf2::StageStats& stats) {
   std::printf("sequence    %s\n", sequence.c_str());
   std::printf("detector    %s\n", s.detector.c_str());
-  std::printf("frames      %d (posed %d: bridged %d, relocalised %d; lost %d)\n", s.frames, s.tracked,
-              s.bridged, s.relocalised, s.lost);
+  std::printf("frames      %d (posed %d: bridged %d of them %d interpolated, relocalised %d; lost %d)\n", s.frames,
+              s.tracked, s.bridged, s.interpolated, s.relocalised, s.lost);
   std::printf("keyframes   %d (local edges %d, loop closures %d)\n", s.keyframes, s.local_edges, s.loop_closures);
   std::printf("fps         %.1f end to end (%.1f s)\n", s.fps, s.seconds);
   if (s.dropped > 0) std::printf("dropped     %d frames arrived while the pipeline was busy (real time)\n", s.dropped);

@@ -178,6 +178,7 @@ TEST(SlamSystem, BlindFramesAreLostNotInvented) {
   const SlamRunSummary summary = system.run(source, "", out);
   // Frames 15 and 16 are bridged (prior pose), 17-19 lost, 20 relocalised.
   expectFrameCounts(summary, 2, 3, 1);
+  EXPECT_EQ(summary.interpolated, 0);
   ASSERT_EQ(system.trajectory().size(), 37u);
   for (const StampedPose& pose : system.trajectory()) {
     for (int i = 17; i < 20; ++i) EXPECT_NE(pose.timestamp, sequence.timestamp(i));
@@ -202,9 +203,10 @@ TEST(SlamSystem, BlindFramesBetweenMeasuredOnesGetInterpolatedPoses) {
   const SlamRunSummary summary = system.run(source, "", out);
   // Frames 15-19 lie between measured frames 14 and 20 (relocalised): all five are bridged now.
   expectFrameCounts(summary, 5, 0, 1);
+  EXPECT_EQ(summary.interpolated, 5);  // the two the prior had bridged and the three lost
   ASSERT_EQ(system.trajectory().size(), 40u);
   const std::string stats = readAll(out + "/stats.json");
-  EXPECT_NE(stats.find("\"bridged\":5,"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"bridged\":5,\"interpolated\":5,"), std::string::npos) << stats;
   EXPECT_EQ(stats.find("\"status\":\"lost\""), std::string::npos) << stats;
   const Trajectory truth = groundTruth(sequence);
   const AteResult ate = computeAte(truth, system.trajectory());

@@ -31,6 +31,7 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
   out.precision(6);
   out << "{\"frames\":" << s.frames << ",\"tracked\":" << s.tracked << ",\"lost\":" << s.lost
       << ",\"relocalised\":" << s.relocalised << ",\"bridged\":" << s.bridged
+      << ",\"interpolated\":" << s.interpolated
       << ",\"keyframes\":" << s.keyframes << ",\"loop_closures\":" << s.loop_closures
       << ",\"local_edges\":" << s.local_edges << ",\"map_refusions\":" << s.map_refusions
       << ",\"dropped\":" << s.dropped << ",\"stopped\":" << (s.stopped ? "true" : "false")

@@ -290,6 +290,7 @@ class SlamSystem::Pipeline {
         ++summary_.tracked;
         ++summary_.bridged;
       }
+      ++summary_.interpolated;
       record.has_pose = true;
       record.status = TrackStatus::kBridged;
       record.keyframe_id = records_[k - 1].keyframe_id;  // the gap's measured frame or the filled one before

@@ -30,6 +30,8 @@ struct SlamRunSummary {
   int lost = 0;          // frames without a pose
   int relocalised = 0;   // frames where tracking came back
   int bridged = 0;       // frames given the motion prior's pose (no alignment held)
+  int interpolated = 0;  // of the bridged ones: posed at the end of the run between two measured
+                         // frames (GapInterpolator) instead of by the motion prior or not at all
   int keyframes = 0;
   int loop_closures = 0; // verified loop edges in the keyframe pose graph
   int local_edges = 0;   // verified edges between near keyframes (the back end's local window)
