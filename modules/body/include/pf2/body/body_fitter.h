@@ -112,10 +112,11 @@ class BodyFitter {
     double edge_band = 16.0;
     // Keypoints lie at their joint plus CocoJointLink::offset (true) or at the joint itself.
     bool keypoint_offsets = true;
-    // Pose prior: zero-mean quadratic on the axis-angle of joints 1..23 (radians), residual =
-    // weight_pose * scale_j * angle, scale_j 1 for limbs, 3 for spine/neck/collars/feet/hands (not
-    // seen by COCO keypoints). Joint limits: knees and elbows only bend one way (a one-sided penalty
-    // weight_limits * angle beyond the limit). 5 rather than 2: a leg outside the image is held
+    // Pose prior: quadratic on the axis-angle of joints 1..23 (radians) around a relaxed standing
+    // pose (arms lowered; docs/body.md), residual = weight_pose * scale_j * (angle - relaxed),
+    // scale_j 1 for limbs, 3 for spine/neck/collars/feet/hands (not seen by COCO keypoints).
+    // Joint limits: knees and elbows only bend one way (a one-sided penalty weight_limits * angle
+    // beyond the limit). 5 rather than 2: a leg outside the image is held
     // near the relaxed pose instead of bent wherever MoveNet's guesses at the border pull it
     // (pf2_slam, repeatable runs, MPJPE sums over nine pf2_synth sequences 876 -> 826 mm and over
     // six held-out ones 649 -> 597 mm, track RMSE and identity switches no worse; 10: 825 mm but
