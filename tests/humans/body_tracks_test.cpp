@@ -63,6 +63,7 @@ PersonSighting sightingAt(int frame, double stamp, const Eigen::Vector3d& p_c, i
 BodyTrackAssembler::Options noSmoothing() {
   BodyTrackAssembler::Options options;
   options.smoothing_sigma = 0;
+  options.pose_smoothing_sigma = 0;
   return options;
 }
 
@@ -130,6 +131,39 @@ TEST(BodyTrackAssembler, InterpolatesBetweenFitsAndPlacesTheRest) {
   EXPECT_NEAR(frames[5].body_w.pose[1].x(), 0.2, 1e-9);
   // One shape for the whole track: the mean of its fits.
   for (const BodyTrackFrame& f : frames) EXPECT_LT((f.body_w.shape - a.shape).norm(), 1e-12);
+}
+
+// The joints' rotations are smoothed over time: a knee whose fits jitter by +-0.1 rad around
+// 0.3 rad from one frame to the next (30 fps) comes out within a few hundredths of 0.3 in the
+// middle of the track, with its joints following the smoothed pose; the pelvis does not move, and
+// a frame too far from the others to be averaged with them keeps its own pose.
+TEST(BodyTrackAssembler, SmoothsTheJointRotationsOverTime) {
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  const Eigen::Vector3d centre(0.2, 0.1, 2.4);
+  for (int f = 0; f < 30; ++f) {
+    BodyParameters body = personInCamera();
+    body.pose[4] = Eigen::Vector3d(0.3 + (f % 2 ? 0.1 : -0.1), 0, 0);  // left knee
+    const double stamp = f / 30.0 + (f == 29 ? 5.0 : 0.0);               // the last one 5 s later
+    seen.push_back(sightingAt(f, stamp, centre));
+    fits.push_back(fitAt(f, stamp, body));
+  }
+  BodyTrackAssembler::Options smooth = noSmoothing();
+  smooth.pose_smoothing_sigma = 0.1;
+  const std::map<int, Eigen::Isometry3d> keyframes{{0, Eigen::Isometry3d::Identity()}};
+  const std::vector<BodyTrack> raw = BodyTrackAssembler(model(), noSmoothing()).assemble(seen, fits, keyframes, {});
+  const std::vector<BodyTrack> out = BodyTrackAssembler(model(), smooth).assemble(seen, fits, keyframes, {});
+  ASSERT_EQ(out.size(), 1u);
+  ASSERT_EQ(out[0].frames.size(), 30u);
+  for (int f = 10; f < 20; ++f) {
+    const BodyTrackFrame& frame = out[0].frames[f];
+    EXPECT_NEAR(raw[0].frames[f].body_w.pose[4].norm(), f % 2 ? 0.4 : 0.2, 1e-9);
+    EXPECT_NEAR(frame.body_w.pose[4].norm(), 0.3, 0.02) << f;
+    EXPECT_LT((frame.pelvis_w - raw[0].frames[f].pelvis_w).norm(), 1e-9);
+    const auto joints = model().posedJoints(frame.body_w);
+    for (int j = 0; j < kBodyJointCount; ++j) EXPECT_LT((frame.joints_w[j] - joints[j]).norm(), 1e-9);
+  }
+  EXPECT_NEAR(out[0].frames[29].body_w.pose[4].norm(), 0.4, 1e-9);
 }
 
 // A person never fitted (keypoints too few in every frame): a standing body with its pelvis at the

@@ -285,8 +285,57 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     track.frames.push_back(frameFromBody(t, exact, body));
   }
   track.fits = static_cast<int>(fitted.size());
+  smoothPose(&track);
   smoothPelvis(&track);
   return track;
+}
+
+namespace {
+
+// Calls visit(j, w) for every frame j within 3 sigma of frame i, w = exp(-dt^2 / (2 sigma^2)).
+// Frames are in time order; *first is the first frame within reach of frame i, moved on as i
+// grows (start it at 0 and call with i = 0, 1, ...).
+template <typename Visit>
+void forGaussianNeighbours(const std::vector<BodyTrackFrame>& frames, size_t i, double sigma, size_t* first,
+                           const Visit& visit) {
+  while (frames[i].timestamp - frames[*first].timestamp > 3 * sigma) ++*first;
+  for (size_t j = *first; j < frames.size() && frames[j].timestamp - frames[i].timestamp <= 3 * sigma; ++j) {
+    const double dt = frames[j].timestamp - frames[i].timestamp;
+    visit(j, std::exp(-0.5 * dt * dt / (sigma * sigma)));
+  }
+}
+
+}  // namespace
+
+// Gaussian smoothing of every joint's rotation, the root's included, over the track's frames
+// within 3 sigma: the weighted mean of the unit quaternions, each turned to the same hemisphere as
+// the frame's own (close rotations average well this way). The pelvis stays: a joint's rotation
+// does not move it.
+void BodyTrackAssembler::smoothPose(BodyTrack* track) const {
+  const double sigma = options_.pose_smoothing_sigma;
+  if (sigma <= 0) return;
+  std::vector<BodyTrackFrame>& frames = track->frames;
+  std::vector<std::array<Eigen::Vector4d, kBodyJointCount>> rotations(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) {
+    for (int j = 0; j < kBodyJointCount; ++j) rotations[i][j] = quaternion(frames[i].body_w.pose[j]).coeffs();
+  }
+  std::vector<BodyParameters> smoothed(frames.size());
+  size_t first = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    std::array<Eigen::Vector4d, kBodyJointCount> sum;
+    sum.fill(Eigen::Vector4d::Zero());
+    forGaussianNeighbours(frames, i, sigma, &first, [&](size_t k, double w) {
+      for (int j = 0; j < kBodyJointCount; ++j) {
+        const Eigen::Vector4d& q = rotations[k][j];
+        sum[j] += (q.dot(rotations[i][j]) < 0 ? -w : w) * q;
+      }
+    });
+    smoothed[i] = frames[i].body_w;
+    for (int j = 0; j < kBodyJointCount; ++j) {
+      smoothed[i].pose[j] = axisAngle(Eigen::Quaterniond(sum[j].normalized()).toRotationMatrix());
+    }
+  }
+  for (size_t i = 0; i < frames.size(); ++i) frames[i] = frameFromBody(frames[i].timestamp, frames[i].fitted, smoothed[i]);
 }
 
 // Gaussian smoothing of the pelvis over the track's frames within 3 sigma; each body (its joints,
@@ -298,15 +347,12 @@ void BodyTrackAssembler::smoothPelvis(BodyTrack* track) const {
   std::vector<Eigen::Vector3d> smoothed(frames.size());
   size_t first = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
-    while (frames[i].timestamp - frames[first].timestamp > 3 * sigma) ++first;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     double weights = 0;
-    for (size_t j = first; j < frames.size() && frames[j].timestamp - frames[i].timestamp <= 3 * sigma; ++j) {
-      const double dt = frames[j].timestamp - frames[i].timestamp;
-      const double w = std::exp(-0.5 * dt * dt / (sigma * sigma));
+    forGaussianNeighbours(frames, i, sigma, &first, [&](size_t j, double w) {
       sum += w * frames[j].pelvis_w;
       weights += w;
-    }
+    });
     smoothed[i] = sum / weights;
   }
   for (size_t i = 0; i < frames.size(); ++i) {

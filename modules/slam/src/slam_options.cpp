@@ -214,6 +214,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");
+  s.number("bodies.pose_smoothing", &o.body_tracks.pose_smoothing_sigma, 0.0, 5.0, "seconds",
+           "sigma of the Gaussian smoothing of each person's joint rotations over time (0 = none)");
   s.number("bodies.max_offset_deviation", &o.body_tracks.max_offset_deviation, 0.01, 10.0, "metres",
            "a fit whose pelvis is further from where the person's other fits lie (relative to the eq. 2 centre) is dropped");
   s.boolean("bodies.visible_centre", &o.body_tracks.visible_centre,
