@@ -335,7 +335,9 @@ void BodyTrackAssembler::smoothPose(BodyTrack* track) const {
       smoothed[i].pose[j] = axisAngle(Eigen::Quaterniond(sum[j].normalized()).toRotationMatrix());
     }
   }
-  for (size_t i = 0; i < frames.size(); ++i) frames[i] = frameFromBody(frames[i].timestamp, frames[i].fitted, smoothed[i]);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    frames[i] = frameFromBody(frames[i].timestamp, frames[i].fitted, smoothed[i]);
+  }
 }
 
 // Gaussian smoothing of the pelvis over the track's frames within 3 sigma; each body (its joints,
