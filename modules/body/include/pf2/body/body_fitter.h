@@ -116,11 +116,10 @@ class BodyFitter {
     // pose (arms lowered; docs/body.md), residual = weight_pose * scale_j * (angle - relaxed),
     // scale_j 1 for limbs, 3 for spine/neck/collars/feet/hands (not seen by COCO keypoints).
     // Joint limits: knees and elbows only bend one way (a one-sided penalty weight_limits * angle
-    // beyond the limit). 5 rather than 2: a leg outside the image is held
-    // near the relaxed pose instead of bent wherever MoveNet's guesses at the border pull it
-    // (pf2_slam, repeatable runs, MPJPE sums over nine pf2_synth sequences 876 -> 826 mm and over
-    // six held-out ones 649 -> 597 mm, track RMSE and identity switches no worse; 10: 825 mm but
-    // track RMSE 58.5 -> 63.3 cm).
+    // beyond the limit). 5 rather than 2: a leg outside the image is held near the relaxed pose
+    // instead of bent wherever MoveNet's guesses at the border pull it (pf2_slam, repeatable runs,
+    // MPJPE sums over nine pf2_synth sequences 876 -> 826 mm and over six held-out ones 649 -> 597
+    // mm, track RMSE and identity switches no worse; 10: 825 mm but track RMSE 58.5 -> 63.3 cm).
     double weight_pose = 5.0;
     double weight_limits = 50.0;
     // Shape prior: residual = weight_shape * beta (betas have unit variance).
