@@ -34,7 +34,7 @@ const char* kUsage =
     "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
     "                         [--no-keypoint-offsets] [--no-side-views]\n"
-    "                         [--weight-depth W] [--weight-pose W] [--weight-shape W]\n"
+    "                         [--weight-depth W] [--weight-pose W] [--weight-shape W] [--weight-upright W]\n"
     "                         [--refine] [--refine-input PX] [--refine-margin M]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
     "in every K-th frame (default 10) of a pf2_synth sequence and scores the fitted joints against\n"
@@ -121,6 +121,7 @@ int run(int argc, char** argv) {
   fit_options.weight_depth = cli.number("--weight-depth", fit_options.weight_depth);
   fit_options.weight_pose = cli.number("--weight-pose", fit_options.weight_pose);
   fit_options.weight_shape = cli.number("--weight-shape", fit_options.weight_shape);
+  fit_options.weight_upright = cli.number("--weight-upright", fit_options.weight_upright);
   fit_options.keypoint_offsets = !cli.flag("--no-keypoint-offsets");
   if (cli.flag("--no-side-views")) fit_options.side_view_separation = 0;
   const auto positionals = cli.positionals();

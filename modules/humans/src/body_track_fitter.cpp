@@ -6,11 +6,6 @@ namespace pf2 {
 
 namespace {
 
-// The world's up direction: pf2_slam's world frame is the first camera's, and a camera starts
-// roughly upright (image y pointing down), so up is that camera's -y. Only the fit's starting
-// orientation uses it.
-const Eigen::Vector3d kUpWorld(0.0, -1.0, 0.0);
-
 BodyFitter::Options withTemporal(BodyFitter::Options options, double weight_temporal, bool fit_shape) {
   options.weight_temporal = weight_temporal;
   options.fit_shape = fit_shape;
@@ -105,7 +100,7 @@ BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackStat
     o.depth.copyTo(frame_depth(o.depth_area));
     input.points_c = depthPointsFromImage(frame_depth, o.intrinsics);
   }
-  input.up_c = o.T_w_c.linear().transpose() * kUpWorld;
+  input.up_c = o.T_w_c.linear().transpose() * o.up_w;
   if (track.has_previous && o.timestamp - track.previous_time <= options_.warm_start_gap) {
     const Eigen::Isometry3d T_now_previous = o.T_w_c.inverse() * track.T_w_c_previous;
     const Eigen::Vector3d rest_pelvis = model_.restJoints(track.previous_c.shape)[0];

@@ -18,6 +18,7 @@
 #include "pf2/io/image_file.h"
 #include "pf2/slam/motion_guess.h"
 #include "pf2/slam/slam_runner.h"
+#include "pf2/surface/up_direction.h"
 #include "mapping_thread.h"
 
 namespace pf2 {
@@ -178,6 +179,10 @@ class SlamSystem::Pipeline {
       }
       FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
                          Eigen::Isometry3d::Identity(), {}};
+      // The world's up for the bodies, from the first frames' floor and table tops.
+      if (body_fitter_ && record.has_pose && result.status != TrackStatus::kBridged) {
+        up_.update(static_frame.depth, frame.intrinsics, result.T_w_c);
+      }
       std::vector<FrameResult::Person> people;
       if (track_humans_) people = placePeople(frame, detections, filtered, result, &record);
       count(result, &record);
@@ -405,6 +410,7 @@ class SlamSystem::Pipeline {
     }
     observation.intrinsics = frame.intrinsics;
     observation.T_w_c = result.T_w_c;
+    observation.up_w = up_.up_w();
     observation.keyframe_id = result.keyframe_id;
     observation.T_k_c = result.T_k_c;
     body_fitter_->offer(std::move(observation));
@@ -460,6 +466,7 @@ class SlamSystem::Pipeline {
   std::shared_ptr<const BodyModel> body_model_;     // with bodies.fit and a detector
   std::shared_ptr<PoseRefiner> keypoint_refiner_;    // the body thread's, when keypoints are refined
   std::unique_ptr<BodyTrackFitter> body_fitter_;    // declared after the model it uses
+  UpDirectionEstimator up_;                          // the world's up, for the body fits
   SlamRunSummary summary_;
   bool finished_ = false;
   std::chrono::steady_clock::time_point first_frame_, last_frame_end_;

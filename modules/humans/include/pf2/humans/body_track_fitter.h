@@ -48,6 +48,9 @@ struct BodyObservation {
   cv::Rect2f box;
   CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();  // as tracked now
+  // The world's up (unit, against gravity) as known now: the fit's upright prior and initial
+  // orientation (UpDirectionEstimator; the first camera's -y when the world is its frame).
+  Eigen::Vector3d up_w = Eigen::Vector3d(0, -1, 0);
   int keyframe_id = -1;        // the frame's keyframe and pose relative to it, for the final placement
   Eigen::Isometry3d T_k_c = Eigen::Isometry3d::Identity();
 };
