@@ -202,6 +202,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
            "term only keeps it behind the surface it falls on (0 = off)");
   s.number("bodies.edge_band", &b.fitter.edge_band, 0.0, 100.0, "pixels",
            "a keypoint this close to an image edge, or beyond it, only says the joint lies at or beyond that edge");
+  s.number("bodies.weight_upright", &b.fitter.weight_upright, 0.0, 1000.0, "",
+           "pull of each fit's up axis towards the world's up (about this x the lean in radians; 0 = none)");
   s.boolean("bodies.refine_keypoints", &o.refine_keypoints,
             "before each fit, MoveNet runs again on a crop around the person (learned and movenet detectors)");
   s.integer("bodies.refine_input", &o.keypoint_refiner.input_size, 64, 512, "pixels",
