@@ -2,6 +2,8 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -123,6 +125,27 @@ TEST(SlamSystem, TracksAStaticRoomToAFewMillimetres) {
   EXPECT_NE(stats.find("\"track\":{\"count\":45"), std::string::npos) << stats;
   // The map was fused and written.
   EXPECT_GT(readAll(out + "/map.ply").size(), 1000u);
+}
+
+// The world's up from the room's floor and table (full resolution: at half size this room's
+// floor gives too few normals per frame). The run's world is the first camera's frame,
+// pf2_synth's room has z up, and its camera looks down, so the first camera's -y is off.
+TEST(SlamSystem, FindsTheWorldsUpFromTheFloor) {
+  SyntheticSequence::Options sequence_options = smallSequence(0, 20);
+  sequence_options.intrinsics = CameraIntrinsics::tumFreiburg3();
+  const SyntheticSequence sequence(sequence_options);
+  const std::string out = testing::TempDir() + "pf2_slam_up";
+  SlamSystem system(repeatableTrackingOnly());
+  const SlamRunSummary summary = system.run(sequence, "", out);
+  const Eigen::Vector3d truth = sequence.pose(0).linear().transpose() * Eigen::Vector3d::UnitZ();
+  const auto degrees = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
+  };
+  EXPECT_TRUE(summary.up_estimated);
+  EXPECT_LT(degrees(summary.up_w, truth), 2.0);
+  EXPECT_GT(degrees(Eigen::Vector3d(0, -1, 0), truth), 5.0);
+  RecordProperty("up_error_deg", std::to_string(degrees(summary.up_w, truth)));
+  EXPECT_NE(readAll(out + "/stats.json").find("\"world_up_estimated\":true"), std::string::npos);
 }
 
 // Real frames of fast rotation (TUM fr1/rpy, 3-4 degrees per frame, blur, rolling shutter; no

@@ -37,7 +37,9 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
       << ",\"dropped\":" << s.dropped << ",\"stopped\":" << (s.stopped ? "true" : "false")
       << ",\"body_fits_offered\":" << s.body_fits_offered << ",\"body_fits_skipped\":" << s.body_fits_skipped
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
-      << "\",\"stages\":" << stages.toJson() << ",\"tracker_stages\":" << result.tracker_stages_json
+      << "\",\"world_up\":[" << s.up_w.x() << "," << s.up_w.y() << "," << s.up_w.z()
+      << "],\"world_up_estimated\":" << (s.up_estimated ? "true" : "false") << ",\"stages\":" << stages.toJson()
+      << ",\"tracker_stages\":" << result.tracker_stages_json
       << ",\"frame_status\":" << frameStatusJson(result.frame_status) << "}\n";
   return out.str();
 }

@@ -179,8 +179,8 @@ class SlamSystem::Pipeline {
       }
       FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
                          Eigen::Isometry3d::Identity(), {}};
-      // The world's up for the bodies, from the first frames' floor and table tops.
-      if (body_fitter_ && record.has_pose && result.status != TrackStatus::kBridged) {
+      // The world's up (for the bodies and stats.json), from the first frames' floor and table tops.
+      if (record.has_pose && result.status != TrackStatus::kBridged) {
         up_.update(static_frame.depth, frame.intrinsics, result.T_w_c);
       }
       std::vector<FrameResult::Person> people;
@@ -214,6 +214,8 @@ class SlamSystem::Pipeline {
     result.summary.local_edges = tracker_.backend().localEdges();
     result.summary.seconds = std::chrono::duration<double>(last_frame_end_ - first_frame_).count();
     result.summary.fps = result.summary.seconds > 0 ? result.summary.frames / result.summary.seconds : 0.0;
+    result.summary.up_w = up_.up_w();
+    result.summary.up_estimated = up_.estimated();
     std::vector<bool> restarts;  // a relocalised pose does not follow from the one before
     for (const FrameRecord& record : records_) {
       result.frame_status.emplace_back(record.timestamp, record.status);
@@ -466,7 +468,7 @@ class SlamSystem::Pipeline {
   std::shared_ptr<const BodyModel> body_model_;     // with bodies.fit and a detector
   std::shared_ptr<PoseRefiner> keypoint_refiner_;    // the body thread's, when keypoints are refined
   std::unique_ptr<BodyTrackFitter> body_fitter_;    // declared after the model it uses
-  UpDirectionEstimator up_;                          // the world's up, for the body fits
+  UpDirectionEstimator up_;                          // the world's up (body fits, stats.json)
   SlamRunSummary summary_;
   bool finished_ = false;
   std::chrono::steady_clock::time_point first_frame_, last_frame_end_;

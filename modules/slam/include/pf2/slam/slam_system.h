@@ -43,6 +43,11 @@ struct SlamRunSummary {
   int body_fits_offered = 0;  // people-frames sent to the body thread (bodies.fit_every apart per person)
   int body_fits_skipped = 0;  // of those, dropped because the body thread was behind (interpolated)
   std::string detector;  // backend that ran ("none" when people were not removed)
+  // The world's up (unit, against gravity) in the world frame (the first camera's), from the floor
+  // and table tops of the first frames (UpDirectionEstimator); the first camera's -y when none
+  // was seen (up_estimated false). The bodies were fitted upright to it.
+  Eigen::Vector3d up_w = Eigen::Vector3d(0, -1, 0);
+  bool up_estimated = false;
 };
 
 // One frame's result, as SlamSystem::process() returns it.
