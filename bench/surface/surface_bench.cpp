@@ -1,11 +1,14 @@
 // Speed of the mapping engine at 640x480 and 1 cm voxels on an analytic box room (4 x 2.7 x 4 m,
 // the camera near its middle, walls 1.7-2.3 m away).
+#include <limits>
+
 #include <benchmark/benchmark.h>
 
 #include "analytic_scene.h"
 #include "pf2/surface/mapper.h"
 #include "pf2/surface/occupancy_map.h"
 #include "pf2/surface/tsdf_volume.h"
+#include "pf2/surface/up_direction.h"
 
 namespace pf2 {
 namespace {
@@ -126,6 +129,21 @@ void BM_MapperAddKeyframe(benchmark::State& state) {
   state.counters["stored_MB"] = static_cast<double>(mapper.memoryBytes()) / 1e6;
 }
 BENCHMARK(BM_MapperAddKeyframe)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(48);
+
+// One frame's look for the world's up (UpDirectionEstimator::update) as long as it has not
+// settled: pf2_slam pays this on every frame of a run whose view never shows floor or table tops.
+void BM_UpDirectionUpdate(benchmark::State& state) {
+  const RoomFrames& f = RoomFrames::get();
+  UpDirectionEstimator::Options options;
+  options.settled_normals = std::numeric_limits<int>::max();  // never settles: every call works
+  UpDirectionEstimator up(options);
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(up.update(f.depths[i], f.K, f.poses[i]));
+    i = (i + 1) % f.poses.size();
+  }
+}
+BENCHMARK(BM_UpDirectionUpdate)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pf2
