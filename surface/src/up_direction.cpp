@@ -86,6 +86,8 @@ bool UpDirectionEstimator::update(const cv::Mat& depth, const CameraIntrinsics& 
   return true;
 }
 
-Eigen::Vector3d UpDirectionEstimator::up_w() const { return normals_ > 0 ? Eigen::Vector3d(sum_w_.normalized()) : fallback_w_; }
+Eigen::Vector3d UpDirectionEstimator::up_w() const {
+  return normals_ > 0 ? Eigen::Vector3d(sum_w_.normalized()) : fallback_w_;
+}
 
 }  // namespace pf2

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -227,8 +228,8 @@ TEST(BodyFitter, KeypointsAtTheImageEdgeOnlyBoundTheJoint) {
 // The fitted body's lean: the angle (degrees) between its up axis (the root's y) and up_c.
 double tiltDegrees(const BodyFitResult& fit, const Eigen::Vector3d& up_c) {
   const Eigen::Vector3d& root = fit.parameters.pose[0];
-  const Eigen::Matrix3d R =
-      root.norm() > 0 ? Eigen::AngleAxisd(root.norm(), root.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d R = root.norm() > 0 ? Eigen::AngleAxisd(root.norm(), root.normalized()).toRotationMatrix()
+                                            : Eigen::Matrix3d::Identity();
   return std::acos(std::clamp(R.col(1).dot(up_c.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
 }
 
@@ -261,12 +262,13 @@ TEST(BodyFitter, UprightPriorHoldsAnUnderdeterminedLean) {
   const auto [lean, error] = leanAndError(input, mesh, BodyFitter::Options().weight_upright);
   std::printf("short torso: lean %.1f -> %.1f degrees, MPJPE %.1f -> %.1f mm with the upright prior\n", lean_free,
               lean, 1000 * error_free, 1000 * error);
-  EXPECT_GT(lean_free, 15.0);             // measured 30.9
-  EXPECT_LT(lean, 5.0);                   // measured 2.0
-  EXPECT_LT(error, 0.7 * error_free);     // measured 150 -> 83 mm
+  EXPECT_GT(lean_free, 15.0);          // measured 30.9
+  EXPECT_LT(lean, 5.0);                // measured 2.0
+  EXPECT_LT(error, 0.7 * error_free);  // measured 150 -> 83 mm
 
   BodyParameters leaning = knownBody();
-  const Eigen::Matrix3d R_root = Eigen::AngleAxisd(leaning.pose[0].norm(), leaning.pose[0].normalized()).toRotationMatrix();
+  const Eigen::Matrix3d R_root =
+      Eigen::AngleAxisd(leaning.pose[0].norm(), leaning.pose[0].normalized()).toRotationMatrix();
   const Eigen::AngleAxisd leaning_root(Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
                                        R_root);
   leaning.pose[0] = leaning_root.angle() * leaning_root.axis();
@@ -279,8 +281,8 @@ TEST(BodyFitter, UprightPriorHoldsAnUnderdeterminedLean) {
       leanAndError(leaning_input, leaning_mesh, BodyFitter::Options().weight_upright);
   std::printf("leaning 20 degrees: root %.1f -> %.1f degrees, MPJPE %.1f -> %.1f mm with the upright prior\n",
               leaning_lean_free, leaning_lean, 1000 * leaning_error_free, 1000 * leaning_error);
-  EXPECT_GT(leaning_lean_free, 15.0);                       // measured 16.7
-  EXPECT_LT(leaning_error, leaning_error_free + 0.005);     // measured 35.5 -> 37.4 mm
+  EXPECT_GT(leaning_lean_free, 15.0);                    // measured 16.7
+  EXPECT_LT(leaning_error, leaning_error_free + 0.005);  // measured 35.5 -> 37.4 mm
 }
 
 TEST(BodyFitter, ExactKeypointsWithoutDepth) {

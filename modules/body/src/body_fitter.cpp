@@ -279,7 +279,8 @@ BodyFitter::BodyFitter(const BodyModel& model, const Options& options) : model_(
   const bool ok = options.min_confidence >= 0 && options.min_keypoints >= 1 && options.weight_2d > 0 &&
                   options.weight_depth >= 0 && options.depth_delta > 0 && options.depth_radius_px > 0 &&
                   options.weight_pose >= 0 && options.weight_limits >= 0 && options.weight_shape >= 0 &&
-                  options.weight_temporal >= 0 && options.weight_upright >= 0 && options.stage1_iterations >= 0 && options.max_iterations >= 1 &&
+                  options.weight_temporal >= 0 && options.weight_upright >= 0 && options.stage1_iterations >= 0 &&
+                  options.max_iterations >= 1 &&
                   options.side_view_separation >= 0 && options.side_view_separation <= 1 &&
                   options.edge_band >= 0 && options.edge_band <= 100;
   if (!ok) {

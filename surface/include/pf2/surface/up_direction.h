@@ -3,9 +3,9 @@
 // horizontal surfaces, floor and table tops, seen in the first frames of a run.
 //
 // pf2_slam's world frame is the first camera's, whose -y is "up" only when that camera is level;
-// a camera pitched down 11 degrees (pf2_synth's, most hand-held and robot cameras) made every body
-// fit lean by as much, and the legs outside the image followed the lean. The body fitter's upright
-// prior and initial orientation need the real up.
+// pf2_synth's camera looks 10-11 degrees down, as most hand-held and robot cameras do. The body
+// fitter's upright prior (without it the fits leaned 16 degrees, and legs outside the image with
+// them) and its initial orientation need the real up; stats.json reports it.
 //
 // Per frame: the surface normal at every stride-th pixel (cross product of the back-projected
 // neighbours right and below, across no depth step), turned into the world frame; those within
