@@ -33,7 +33,7 @@ namespace {
 const char* kUsage =
     "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
-    "                         [--no-keypoint-offsets] [--no-side-views]\n"
+    "                         [--no-keypoint-offsets] [--no-side-views] [--no-surface-alignment]\n"
     "                         [--weight-depth W] [--weight-pose W] [--weight-shape W] [--weight-upright W]\n"
     "                         [--refine] [--refine-input PX] [--refine-margin M]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
@@ -45,8 +45,9 @@ const char* kUsage =
     "--no-depth fits the keypoints alone. --weight-* override BodyFitter::Options. The fitter places\n"
     "MoveNet's keypoints beside their joints (CocoJointLink::offset) unless --no-keypoint-offsets;\n"
     "with --detector gt, whose keypoints are the joints themselves, never. --no-side-views keeps every\n"
-    "depth term two-sided (BodyFitter::Options::side_view_separation 0). --refine (learned only): each\n"
-    "person's keypoints from MoveNet run again on a crop around them (PoseRefiner; its input side and\n"
+    "depth term two-sided (BodyFitter::Options::side_view_separation 0). --no-surface-alignment leaves\n"
+    "each fit where the solver put it (BodyFitter::Options::surface_alignment false). --refine (learned\n"
+    "only): each person's keypoints from MoveNet run again on a crop around them (PoseRefiner; its input side and\n"
     "margin by --refine-input and --refine-margin), as pf2_slam does before its fits.\n";
 
 using Joints = pf2::BodyJoints;
@@ -124,6 +125,7 @@ int run(int argc, char** argv) {
   fit_options.weight_upright = cli.number("--weight-upright", fit_options.weight_upright);
   fit_options.keypoint_offsets = !cli.flag("--no-keypoint-offsets");
   if (cli.flag("--no-side-views")) fit_options.side_view_separation = 0;
+  fit_options.surface_alignment = !cli.flag("--no-surface-alignment");
   const auto positionals = cli.positionals();
   if (positionals.size() != 1) throw pf2::Error("expected SEQUENCE_DIR (see -h)");
   if (every < 1 || noise_px < 0) throw pf2::Error("--every must be >= 1 and --noise >= 0");

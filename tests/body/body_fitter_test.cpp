@@ -12,54 +12,10 @@
 #include "pf2/body/body_fitter.h"
 #include "pf2/body/body_model.h"
 #include "pf2/core/error.h"
+#include "known_body.h"
 
 namespace pf2 {
 namespace {
-
-const BodyModel& defaultModel() {
-  static const BodyModel model = [] {
-    ::unsetenv("PF2_BODY_MODEL");
-    return BodyModel::loadDefault();
-  }();
-  return model;
-}
-
-// A walking-like posture seen from 3 m, turned 25° from facing the camera, in an upright camera.
-BodyParameters knownBody() {
-  BodyParameters b;
-  b.shape.setZero();
-  b.shape[0] = 0.8;   // taller
-  b.shape[3] = -0.5;  // lighter
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.44, Eigen::Vector3d::UnitY()).toRotationMatrix() *
-                            Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const Eigen::AngleAxisd root(R);
-  b.pose[0] = root.angle() * root.axis();
-  b.pose[1] = {-0.35, 0, 0.05};  // left hip forward
-  b.pose[2] = {0.25, 0, -0.05};  // right hip back
-  b.pose[4] = {0.5, 0, 0};       // left knee bent
-  b.pose[5] = {0.15, 0, 0};
-  b.pose[16] = {0.2, 0.1, -1.3};  // arms down, swinging
-  b.pose[17] = {-0.2, -0.1, 1.25};
-  b.pose[18] = {0, -0.5, 0};  // left elbow bent
-  b.pose[19] = {0, 0.2, 0};
-  b.translation = {0.15, 0.1, 3.0};
-  return b;
-}
-
-// Exact keypoints of a body: where the fitter expects them (BodyFitter::keypointPoints), projected.
-BodyFitInput keypointsOf(const BodyParameters& body, const CameraIntrinsics& K, double noise_px = 0.0,
-                         unsigned seed = 1) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, noise_px > 0 ? noise_px : 1.0);
-  const auto points = BodyFitter(defaultModel()).keypointPoints(body);
-  BodyFitInput input;
-  for (int k = 0; k < kCocoKeypointCount; ++k) {
-    if (kCocoToBodyJoint[k].joint < 0) continue;
-    const Eigen::Vector2d px = K.project(points[k]);
-    input.keypoints[k] = {px.x() + (noise_px > 0 ? noise(rng) : 0.0), px.y() + (noise_px > 0 ? noise(rng) : 0.0), 1.0};
-  }
-  return input;
-}
 
 // The mesh vertices whose normals face the camera: the surface a depth camera would see (without
 // self-occlusion), as the person's points D_h^t.
@@ -168,7 +124,8 @@ std::vector<Eigen::Vector3d> visibleVertices(const BodyMesh& mesh, const CameraI
 // A person seen from the side: the far shoulder's, hip's, knee's ... keypoints fall on the near
 // side's surface. A two-sided depth term pulls those joints forward by the body's width (and the
 // body with them); with side_view_separation the hidden keypoint of each pair is only kept
-// behind the surface it falls on.
+// behind the surface it falls on. The rule alone, without the surface alignment (which takes the
+// two-sided terms' error down to 29 mm by itself).
 TEST(BodyFitter, APersonSeenFromTheSide) {
   const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
   BodyParameters truth = knownBody();
@@ -181,6 +138,7 @@ TEST(BodyFitter, APersonSeenFromTheSide) {
   double pelvis_error[2];
   for (const bool pairs : {false, true}) {
     BodyFitter::Options options;
+    options.surface_alignment = false;
     if (!pairs) options.side_view_separation = 0;
     const BodyFitResult fit = BodyFitter(defaultModel(), options).fit(input, K);
     ASSERT_TRUE(fit.valid) << fit.message;
@@ -189,8 +147,8 @@ TEST(BodyFitter, APersonSeenFromTheSide) {
                 pairs ? "one-sided" : "two-sided", 1000 * meanJointError(fit.joints_c, mesh.joints),
                 1000 * pelvis_error[pairs], 1000 * (fit.joints_c[0] - mesh.joints[0]).z());
   }
-  EXPECT_GT(pelvis_error[0], 0.04);  // measured 57 mm, 53 of them too near the camera
-  EXPECT_LT(pelvis_error[1], 0.03);  // measured 21 mm
+  EXPECT_GT(pelvis_error[0], 0.04);  // measured 54 mm, 47 of them too near the camera
+  EXPECT_LT(pelvis_error[1], 0.03);  // measured 28 mm
 }
 
 // A person whose feet are below the image: MoveNet puts a joint outside its input at the input's
@@ -233,10 +191,13 @@ double tiltDegrees(const BodyFitResult& fit, const Eigen::Vector3d& up_c) {
   return std::acos(std::clamp(R.col(1).dot(up_c.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
 }
 
-// The lean (tilt from up_c, degrees) and MPJPE (metres) of a fit with the given upright prior.
+// The lean (tilt from up_c, degrees) and MPJPE (metres) of a fit with the given upright prior
+// (the prior alone: without the surface alignment, which moves the short-looking body back to its
+// depth and so takes away part of the lean, 30.9 -> 14.3 degrees without the prior).
 std::pair<double, double> leanAndError(const BodyFitInput& input, const BodyMesh& truth, double weight_upright) {
   BodyFitter::Options options;
   options.weight_upright = weight_upright;
+  options.surface_alignment = false;
   const BodyFitResult fit = BodyFitter(defaultModel(), options).fit(input, CameraIntrinsics::tumFreiburg3());
   EXPECT_TRUE(fit.valid) << fit.message;
   return {tiltDegrees(fit, input.up_c), meanJointError(fit.joints_c, truth.joints)};

@@ -224,6 +224,17 @@ struct UprightPrior {
   }
 };
 
+// The root translation's depth held where the surface alignment put it (the re-solve after it).
+struct DepthHold {
+  double depth;
+  double weight;
+  template <typename T>
+  bool operator()(const T* translation, T* residual) const {
+    residual[0] = weight * (translation[2] - T(depth));
+    return true;
+  }
+};
+
 struct ShapePrior {
   double weight;
   template <typename T>
@@ -269,7 +280,8 @@ Eigen::Matrix3d bodyRotation(const Eigen::Vector3d& up_c, const Eigen::Vector3d&
 
 }  // namespace
 
-BodyFitter::BodyFitter(const BodyModel& model, const Options& options) : model_(model), options_(options) {
+BodyFitter::BodyFitter(const BodyModel& model, const Options& options)
+    : model_(model), options_(options), aligner_(model, options.surface) {
   const auto rest = model.restJoints(Eigen::VectorXd::Zero(kShapes));
   for (int j = 0; j < kBodyJointCount; ++j) rest_joints_.segment<3>(3 * j) = rest[j];
   for (int b = 0; b < kShapes; ++b) {
@@ -279,8 +291,8 @@ BodyFitter::BodyFitter(const BodyModel& model, const Options& options) : model_(
   const bool ok = options.min_confidence >= 0 && options.min_keypoints >= 1 && options.weight_2d > 0 &&
                   options.weight_depth >= 0 && options.depth_delta > 0 && options.depth_radius_px > 0 &&
                   options.weight_pose >= 0 && options.weight_limits >= 0 && options.weight_shape >= 0 &&
-                  options.weight_temporal >= 0 && options.weight_upright >= 0 && options.stage1_iterations >= 0 &&
-                  options.max_iterations >= 1 &&
+                  options.weight_temporal >= 0 && options.weight_upright >= 0 && options.weight_surface_depth >= 0 &&
+                  options.stage1_iterations >= 0 && options.max_iterations >= 1 &&
                   options.side_view_separation >= 0 && options.side_view_separation <= 1 &&
                   options.edge_band >= 0 && options.edge_band <= 100;
   if (!ok) {
@@ -399,12 +411,11 @@ BodyFitResult BodyFitter::fit(const BodyFitInput& input, const CameraIntrinsics&
     initialOrientation(input, seen, K, &x);
     initialPosition(input, seen, K, &x);
   }
-  const SolveOutcome outcome = solve(input, seen, K, &x, &result);
-  for (int k = 0; k < 3; ++k) result.parameters.pose[0][k] = x.root[k], result.parameters.translation[k] = x.translation[k];
-  for (int j = 1; j < kBodyJointCount; ++j) {
-    for (int k = 0; k < 3; ++k) result.parameters.pose[j][k] = x.body[3 * (j - 1) + k];
+  SolveOutcome outcome = solve(input, seen, K, &x, &result);
+  parametersOf(x, &result.parameters);
+  if (options_.surface_alignment && !input.points_c.empty() && !outcome.failed) {
+    outcome = alignToSurface(input, seen, K, &x, &result);
   }
-  result.parameters.shape = Eigen::Map<const Eigen::VectorXd>(x.shape.data(), kShapes);
   result.joints_c = posedJoints(result.parameters);
   bool finite = std::isfinite(result.cost);
   for (const auto& j : result.joints_c) finite = finite && j.allFinite();
@@ -414,6 +425,32 @@ BodyFitResult BodyFitter::fit(const BodyFitInput& input, const CameraIntrinsics&
   }
   result.valid = true;
   return result;
+}
+
+void BodyFitter::parametersOf(const Variables& x, BodyParameters* parameters) {
+  for (int k = 0; k < 3; ++k) parameters->pose[0][k] = x.root[k], parameters->translation[k] = x.translation[k];
+  for (int j = 1; j < kBodyJointCount; ++j) {
+    for (int k = 0; k < 3; ++k) parameters->pose[j][k] = x.body[3 * (j - 1) + k];
+  }
+  parameters->shape = Eigen::Map<const Eigen::VectorXd>(x.shape.data(), kShapes);
+}
+
+// The fit moved along its pelvis ray onto the person's measured torso surface (BodySurfaceAligner),
+// then solved again from there with its depth held (DepthHold): the limbs follow their keypoints
+// from the new place instead of keeping the depth offset of the old one. Returns how the last solve
+// ended; the fit stays as it was when the aligner does not trust the person's points.
+BodyFitter::SolveOutcome BodyFitter::alignToSurface(const BodyFitInput& input, const Observations& seen,
+                                                    const CameraIntrinsics& K, Variables* x,
+                                                    BodyFitResult* result) const {
+  BodyParameters aligned = result->parameters;
+  const BodySurfaceAligner::Result moved = aligner_.align(input.points_c, K, &aligned);
+  if (!moved.applied) return {};
+  result->surface_shift = moved.shift;
+  for (int k = 0; k < 3; ++k) x->translation[k] = aligned.translation[k];
+  const double depth = aligned.translation.z();
+  const SolveOutcome outcome = solve(input, seen, K, x, result, &depth);
+  parametersOf(*x, &result->parameters);
+  return outcome;
 }
 
 // The usable keypoints and the person's depth: mean depth (eq. 2's d_m) and the median depth of
@@ -580,12 +617,13 @@ ceres::CostFunction* BodyFitter::dataTerm(const BodyFitInput& input, const Obser
 // Stage 1 (without a previous fit): root rotation and translation on the torso keypoints; stage 2:
 // everything, with the priors. Adds the iterations and costs to result; returns how stage 2 ended.
 BodyFitter::SolveOutcome BodyFitter::solve(const BodyFitInput& input, const Observations& seen,
-                                           const CameraIntrinsics& K, Variables* x, BodyFitResult* result) const {
+                                           const CameraIntrinsics& K, Variables* x, BodyFitResult* result,
+                                           const double* hold_depth) const {
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.logging_type = ceres::SILENT;
   solver.num_threads = 1;
-  if (options_.stage1_iterations > 0 && input.previous == nullptr) {
+  if (options_.stage1_iterations > 0 && input.previous == nullptr && !hold_depth) {
     ceres::Problem problem;
     problem.AddResidualBlock(dataTerm(input, seen, K, true), nullptr, x->root.data(), x->translation.data(),
                              x->body.data(), x->shape.data());
@@ -601,6 +639,11 @@ BodyFitter::SolveOutcome BodyFitter::solve(const BodyFitInput& input, const Obse
   problem.AddResidualBlock(dataTerm(input, seen, K, false), nullptr, x->root.data(), x->translation.data(),
                            x->body.data(), x->shape.data());
   addPriors(input, x, &problem);
+  if (hold_depth) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<DepthHold, 1, 3>(new DepthHold{*hold_depth, options_.weight_surface_depth}),
+        nullptr, x->translation.data());
+  }
   solver.max_num_iterations = options_.max_iterations;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);

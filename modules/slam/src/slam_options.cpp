@@ -204,6 +204,10 @@ void bodySettings(SlamOptions& o, Settings& s) {
            "a keypoint this close to an image edge, or beyond it, only says the joint lies at or beyond that edge");
   s.number("bodies.weight_upright", &b.fitter.weight_upright, 0.0, 1000.0, "",
            "pull of each fit's up axis towards the world's up (about this x the lean in radians; 0 = none)");
+  s.boolean("bodies.surface_alignment", &b.fitter.surface_alignment,
+            "move each fit along its pelvis ray onto the person's measured torso surface, then fit again from there");
+  s.number("bodies.weight_surface_depth", &b.fitter.weight_surface_depth, 0.0, 100000.0, "",
+           "after the surface alignment, hold of the body's depth (1000: 1 cm weighs like 10 px)");
   s.boolean("bodies.refine_keypoints", &o.refine_keypoints,
             "before each fit, MoveNet runs again on a crop around the person (learned and movenet detectors)");
   s.integer("bodies.refine_input", &o.keypoint_refiner.input_size, 64, 512, "pixels",

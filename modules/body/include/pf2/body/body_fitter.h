@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "pf2/body/body_model.h"
+#include "pf2/body/body_surface_aligner.h"
 #include "pf2/core/camera_intrinsics.h"
 
 namespace ceres {
@@ -77,6 +78,9 @@ struct BodyFitResult {
   int keypoints_used = 0;     // keypoints with a linked joint and confidence >= min_confidence
   int depth_keypoints = 0;    // of those, the ones with a depth measurement (depth term)
   int iterations = 0;         // solver iterations over all stages
+  // m the surface alignment moved the body along its pelvis ray (+ = away from the camera);
+  // 0 when it was off, had no points or did not trust them.
+  double surface_shift = 0;
 };
 
 // Fits the body model to one person (engine; see the header comment). The model is held by
@@ -129,6 +133,14 @@ class BodyFitter {
     // (body up - up_c), about weight_upright x the tilt in radians (10 degrees at 50 weighs like
     // 8.7 px of reprojection error). 0 = none.
     double weight_upright = 50.0;
+    // After the solve, the body moves along the ray through its pelvis until its torso's surface
+    // meets the person's depth points (BodySurfaceAligner; only with points_c), and is solved
+    // again from there with the root's depth held: residual = weight_surface_depth x (t_z - the
+    // aligned t_z), 1000 = 1 cm weighs like 10 px. The depth term alone reads a dozen keypoints'
+    // surroundings, where a pixel of mask error reads the background. SURFACE_FIGURES
+    bool surface_alignment = true;
+    BodySurfaceAligner::Options surface;
+    double weight_surface_depth = 1000.0;
     // Temporal term when `previous` is given: residual = weight_temporal * (pose - previous pose).
     double weight_temporal = 0.0;
     // Solver: stage 1 fits root rotation + translation on the torso, stage 2 everything.
@@ -169,13 +181,18 @@ class BodyFitter {
   ceres::CostFunction* dataTerm(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
                                 bool torso_only) const;
   struct SolveOutcome;
+  // hold_depth: stage 2 alone, with the root translation's z held there (alignToSurface).
   SolveOutcome solve(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K, Variables* x,
-                     BodyFitResult* result) const;
+                     BodyFitResult* result, const double* hold_depth = nullptr) const;
+  SolveOutcome alignToSurface(const BodyFitInput& input, const Observations& seen, const CameraIntrinsics& K,
+                              Variables* x, BodyFitResult* result) const;
+  static void parametersOf(const Variables& x, BodyParameters* parameters);
   void addUprightPrior(const BodyFitInput& input, Variables* x, ceres::Problem* problem) const;
   void addPriors(const BodyFitInput& input, Variables* x, ceres::Problem* problem) const;
 
   const BodyModel& model_;
   Options options_;
+  BodySurfaceAligner aligner_;
   // Rest joints are linear in the shape: J(beta) = rest_joints_ + joint_shapedirs_ * beta.
   Eigen::Matrix<double, 3 * kBodyJointCount, 1> rest_joints_;
   Eigen::Matrix<double, 3 * kBodyJointCount, Options::kShapeCount> joint_shapedirs_;
