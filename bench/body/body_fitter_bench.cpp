@@ -50,15 +50,19 @@ Scene& scene() {
   return s;
 }
 
+// Arg 2: keypoints + depth with the surface alignment (the default), 1: without it, 0: keypoints only.
 void BM_FitPerson(benchmark::State& state) {
   Scene& s = scene();
   pf2::BodyFitInput input = s.input;
-  if (state.range(0) == 0) input.points_c.clear();  // keypoints only
-  const pf2::BodyFitter fitter(s.model);
+  if (state.range(0) == 0) input.points_c.clear();
+  pf2::BodyFitter::Options options;
+  options.surface_alignment = state.range(0) == 2;
+  const pf2::BodyFitter fitter(s.model, options);
   for (auto _ : state) benchmark::DoNotOptimize(fitter.fit(input, s.K));
-  state.SetLabel(state.range(0) ? "keypoints + depth" : "keypoints only");
+  state.SetLabel(state.range(0) == 2 ? "keypoints + depth + surface alignment"
+                                     : (state.range(0) ? "keypoints + depth" : "keypoints only"));
 }
-BENCHMARK(BM_FitPerson)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FitPerson)->Arg(2)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 // Warm start from the exact previous parameters (a person who did not move): the per-frame cost
 // when tracking a person with the temporal start.

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+#include <limits>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -13,27 +13,28 @@ namespace pf2 {
 
 namespace {
 
-// Image cells of cell_px pixels over the image and one image's size around it (a body may reach
-// beyond the view); key -1 for a pixel beyond that.
-class CellGrid {
+// The image in cells of cell_px pixels, each holding a value (initially `empty`); pixels outside
+// the image have no cell (the person's points all lie inside it).
+class CellImage {
  public:
-  CellGrid(const CameraIntrinsics& K, double cell_px)
+  CellImage(const CameraIntrinsics& K, double cell_px, float empty)
       : cell_px_(cell_px),
-        width_(K.width),
-        height_(K.height),
-        columns_(static_cast<long>(std::ceil(3.0 * K.width / cell_px))),
-        rows_(static_cast<long>(std::ceil(3.0 * K.height / cell_px))) {}
+        columns_(static_cast<int>(std::ceil(K.width / cell_px))),
+        rows_(static_cast<int>(std::ceil(K.height / cell_px))),
+        values_(static_cast<std::size_t>(columns_) * rows_, empty) {}
 
-  long key(const Eigen::Vector2d& px) const {
-    const long column = static_cast<long>(std::floor((px.x() + width_) / cell_px_));
-    const long row = static_cast<long>(std::floor((px.y() + height_) / cell_px_));
-    if (!(column >= 0 && column < columns_ && row >= 0 && row < rows_)) return -1;
-    return row * columns_ + column;
+  // The cell of a pixel, nullptr outside the image.
+  float* at(const Eigen::Vector2d& px) {
+    if (!(px.x() >= 0 && px.y() >= 0)) return nullptr;  // also NaN
+    const int column = static_cast<int>(px.x() / cell_px_), row = static_cast<int>(px.y() / cell_px_);
+    if (column >= columns_ || row >= rows_) return nullptr;
+    return &values_[static_cast<std::size_t>(row) * columns_ + column];
   }
 
  private:
-  double cell_px_, width_, height_;
-  long columns_, rows_;
+  double cell_px_;
+  int columns_, rows_;
+  std::vector<float> values_;
 };
 
 // A vertex of the surface the camera sees, and its share of the image: a third of its triangles'
@@ -44,52 +45,56 @@ struct VisibleVertex {
   double weight;
 };
 
-// The torso's vertices (selected) facing the camera and not hidden behind a nearer part of the
-// body (within occlusion_depth of the nearest camera-facing vertex of their image cell).
-std::vector<VisibleVertex> visibleVertices(const BodyMesh& mesh, const std::vector<bool>& selected,
-                                           const CameraIntrinsics& K, const CellGrid& grid, double occlusion_depth) {
+// The torso's vertices facing the camera and not hidden behind a nearer part of the body (within
+// occlusion_depth of the nearest vertex of their image cell of cell_px; the nearest vertex of a
+// cell is on a camera-facing surface, so the cells need no normals). torso_triangles: the
+// triangles that touch a torso vertex, from which the torso vertices' normals come.
+std::vector<VisibleVertex> visibleTorso(const BodyMesh& mesh, const std::vector<int>& torso,
+                                        const std::vector<int>& torso_triangles, const CameraIntrinsics& K,
+                                        double cell_px, double occlusion_depth) {
+  CellImage nearest(K, cell_px, std::numeric_limits<float>::infinity());
+  for (const Eigen::Vector3f& p : mesh.vertices) {
+    float* cell = p.z() > 0.05f ? nearest.at(K.project(p.cast<double>())) : nullptr;
+    if (cell) *cell = std::min(*cell, p.z());
+  }
   std::vector<Eigen::Vector3f> normals(mesh.vertices.size(), Eigen::Vector3f::Zero());
-  for (const Eigen::Vector3i& t : mesh.triangles) {
+  for (const int i : torso_triangles) {
+    const Eigen::Vector3i& t = mesh.triangles[i];
     // Unnormalised: twice the triangle's area along its normal.
     const Eigen::Vector3f n =
         (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
     for (int k = 0; k < 3; ++k) normals[t[k]] += n;
   }
-  std::vector<std::pair<long, std::size_t>> facing;  // (cell, vertex)
-  std::unordered_map<long, float> nearest;           // cell -> nearest camera-facing depth
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+  std::vector<VisibleVertex> visible;
+  for (const int v : torso) {
     const Eigen::Vector3f& p = mesh.vertices[v];
     if (!(p.z() > 0.05f) || normals[v].dot(p) >= 0) continue;
-    const long key = grid.key(K.project(p.cast<double>()));
-    if (key < 0) continue;
-    facing.emplace_back(key, v);
-    auto [it, inserted] = nearest.emplace(key, p.z());
-    if (!inserted) it->second = std::min(it->second, p.z());
-  }
-  std::vector<VisibleVertex> visible;
-  for (const auto& [key, v] : facing) {
-    const Eigen::Vector3f& p = mesh.vertices[v];
-    if (!selected[v] || p.z() > nearest[key] + occlusion_depth) continue;
+    const float* cell = nearest.at(K.project(p.cast<double>()));
+    if (!cell || p.z() > *cell + occlusion_depth) continue;
     visible.push_back({p, -normals[v].dot(p) / p.norm() / (p.z() * p.z())});
   }
   return visible;
 }
 
-// The measured depth per image cell (mean of the points in it).
-std::unordered_map<long, float> measuredDepthByCell(const std::vector<Eigen::Vector3d>& points_c,
-                                                    const CameraIntrinsics& K, const CellGrid& grid) {
-  std::unordered_map<long, std::pair<double, int>> sums;
+// The measured depth per image cell of cell_px: the mean of the points in it, 0 = none.
+CellImage measuredDepth(const std::vector<Eigen::Vector3d>& points_c, const CameraIntrinsics& K, double cell_px) {
+  CellImage sum(K, cell_px, 0.0f), count(K, cell_px, 0.0f);
   for (const Eigen::Vector3d& p : points_c) {
     if (!p.allFinite() || !(p.z() > 0)) continue;
-    const long key = grid.key(K.project(p));
-    if (key < 0) continue;
-    auto& [sum, count] = sums[key];
-    sum += p.z(), ++count;
+    const Eigen::Vector2d px = K.project(p);
+    float* s = sum.at(px);
+    if (!s) continue;
+    *s += static_cast<float>(p.z());
+    *count.at(px) += 1.0f;
   }
-  std::unordered_map<long, float> depth;
-  depth.reserve(sums.size());
-  for (const auto& [key, sum] : sums) depth.emplace(key, static_cast<float>(sum.first / sum.second));
-  return depth;
+  for (int r = 0; r < std::ceil(K.height / cell_px); ++r) {
+    for (int c = 0; c < std::ceil(K.width / cell_px); ++c) {
+      const Eigen::Vector2d px((c + 0.5) * cell_px, (r + 0.5) * cell_px);
+      float* s = sum.at(px);
+      if (s && *s > 0) *s /= *count.at(px);
+    }
+  }
+  return sum;
 }
 
 // The weighted median of (value, weight) pairs; pairs must not be empty.
@@ -117,11 +122,16 @@ BodySurfaceAligner::BodySurfaceAligner(const BodyModel& model, const Options& op
   }
   // The torso: vertices moved most by the pelvis, the spine or the collars.
   const Eigen::MatrixXf& weights = model.weights();
-  torso_.resize(weights.rows());
+  std::vector<bool> in_torso(weights.rows());
   for (Eigen::Index v = 0; v < weights.rows(); ++v) {
     Eigen::Index joint = 0;
     weights.row(v).maxCoeff(&joint);
-    torso_[v] = joint == 0 || joint == 3 || joint == 6 || joint == 9 || joint == 13 || joint == 14;
+    in_torso[v] = joint == 0 || joint == 3 || joint == 6 || joint == 9 || joint == 13 || joint == 14;
+    if (in_torso[v]) torso_.push_back(static_cast<int>(v));
+  }
+  for (std::size_t i = 0; i < model.triangles().size(); ++i) {
+    const Eigen::Vector3i& t = model.triangles()[i];
+    if (in_torso[t[0]] || in_torso[t[1]] || in_torso[t[2]]) torso_triangles_.push_back(static_cast<int>(i));
   }
 }
 
@@ -129,13 +139,12 @@ BodySurfaceAligner::Result BodySurfaceAligner::align(const std::vector<Eigen::Ve
                                                      const CameraIntrinsics& K, BodyParameters* body_c) const {
   Result result;
   const BodyMesh mesh = model_.evaluate(*body_c);
-  const CellGrid match(K, options_.match_px);
-  const std::unordered_map<long, float> measured = measuredDepthByCell(points_c, K, match);
+  CellImage measured = measuredDepth(points_c, K, options_.match_px);
   std::vector<std::pair<double, double>> differences;  // (measured - vertex depth, weight)
   for (const VisibleVertex& v :
-       visibleVertices(mesh, torso_, K, CellGrid(K, options_.cell_px), options_.occlusion_depth)) {
-    const auto it = measured.find(match.key(K.project(v.p.cast<double>())));
-    if (it != measured.end()) differences.emplace_back(it->second - v.p.z(), v.weight);
+       visibleTorso(mesh, torso_, torso_triangles_, K, options_.cell_px, options_.occlusion_depth)) {
+    const float* depth = measured.at(K.project(v.p.cast<double>()));
+    if (depth && *depth > 0) differences.emplace_back(*depth - v.p.z(), v.weight);
   }
   result.vertices = static_cast<int>(differences.size());
   if (result.vertices < options_.min_vertices) return result;

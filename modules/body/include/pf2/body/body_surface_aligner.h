@@ -21,8 +21,8 @@ namespace pf2 {
 class BodySurfaceAligner {
  public:
   struct Options {
-    // A camera-facing vertex further than occlusion_depth behind the nearest one in its image cell
-    // of cell_px pixels is hidden (an arm in front of the torso). cell_px [1, 32] px, about the
+    // A torso vertex further than occlusion_depth behind the nearest vertex in its image cell of
+    // cell_px pixels is hidden (an arm in front of the torso). cell_px [1, 32] px, about the
     // spacing of the model's vertices at 3-4 m; occlusion_depth (0, 1] m.
     double cell_px = 4.0;
     double occlusion_depth = 0.05;
@@ -55,7 +55,8 @@ class BodySurfaceAligner {
  private:
   const BodyModel& model_;
   Options options_;
-  std::vector<bool> torso_;  // per model vertex
+  std::vector<int> torso_;            // the torso's vertices
+  std::vector<int> torso_triangles_;  // the triangles that touch one
 };
 
 }  // namespace pf2
