@@ -138,8 +138,8 @@ class BodyFitter {
     // again from there with the root's depth held: residual = weight_surface_depth x (t_z - the
     // aligned t_z), 1000 = 1 cm weighs like 10 px. The depth term alone reads a dozen keypoints'
     // surroundings, where a pixel of mask error reads the background (pf2_slam, repeatable runs,
-    // nine pf2_synth sequences: track RMSE sum 59.9 -> 54.4 cm, MPJPE 781 -> 757 mm; six held-out
-    // ones 45.1 -> 40.4 cm, 568 -> 553 mm; weight 3000: 54.6 cm, 757 mm). >= 0.
+    // nine pf2_synth sequences: track RMSE sum 59.9 -> 54.8 cm, MPJPE 781 -> 757 mm; six held-out
+    // ones 45.1 -> 40.5 cm, 568 -> 553 mm; weight 3000 about the same). >= 0.
     bool surface_alignment = true;
     BodySurfaceAligner::Options surface;
     double weight_surface_depth = 1000.0;
