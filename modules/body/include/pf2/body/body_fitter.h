@@ -141,7 +141,7 @@ class BodyFitter {
     // nine pf2_synth sequences: track RMSE sum 59.9 -> 54.8 cm, MPJPE 781 -> 757 mm; six held-out
     // ones 45.1 -> 40.5 cm, 568 -> 553 mm; weight 3000 about the same). >= 0.
     bool surface_alignment = true;
-    BodySurfaceAligner::Options surface;
+    BodySurfaceAligner::Options surface;  // the aligner's own settings (cells, occlusion, trust)
     double weight_surface_depth = 1000.0;
     // Temporal term when `previous` is given: residual = weight_temporal * (pose - previous pose).
     double weight_temporal = 0.0;
