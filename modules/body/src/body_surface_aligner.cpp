@@ -23,12 +23,18 @@ class CellImage {
         rows_(static_cast<int>(std::ceil(K.height / cell_px))),
         values_(static_cast<std::size_t>(columns_) * rows_, empty) {}
 
-  // The cell of a pixel, nullptr outside the image.
+  // The cell of a pixel, nullptr outside the image (and for NaN).
   float* at(const Eigen::Vector2d& px) {
-    if (!(px.x() >= 0 && px.y() >= 0)) return nullptr;  // also NaN
-    const int column = static_cast<int>(px.x() / cell_px_), row = static_cast<int>(px.y() / cell_px_);
-    if (column >= columns_ || row >= rows_) return nullptr;
-    return &values_[static_cast<std::size_t>(row) * columns_ + column];
+    const double column = px.x() / cell_px_, row = px.y() / cell_px_;
+    if (!(column >= 0 && column < columns_ && row >= 0 && row < rows_)) return nullptr;
+    return &values_[static_cast<std::size_t>(row) * columns_ + static_cast<std::size_t>(column)];
+  }
+
+  // Each non-zero cell divided by the same cell of `counts` (sums into means).
+  void divideNonZero(const CellImage& counts) {
+    for (std::size_t i = 0; i < values_.size(); ++i) {
+      if (values_[i] != 0) values_[i] /= counts.values_[i];
+    }
   }
 
  private:
@@ -87,13 +93,7 @@ CellImage measuredDepth(const std::vector<Eigen::Vector3d>& points_c, const Came
     *s += static_cast<float>(p.z());
     *count.at(px) += 1.0f;
   }
-  for (int r = 0; r < std::ceil(K.height / cell_px); ++r) {
-    for (int c = 0; c < std::ceil(K.width / cell_px); ++c) {
-      const Eigen::Vector2d px((c + 0.5) * cell_px, (r + 0.5) * cell_px);
-      float* s = sum.at(px);
-      if (s && *s > 0) *s /= *count.at(px);
-    }
-  }
+  sum.divideNonZero(count);
   return sum;
 }
 
