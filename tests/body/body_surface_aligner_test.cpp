@@ -12,6 +12,7 @@
 #include "pf2/body/body_model.h"
 #include "pf2/body/body_surface_aligner.h"
 #include "pf2/core/error.h"
+#include "pf2/synth/people.h"
 #include "pf2/synth/rasterizer.h"
 #include "known_body.h"
 
@@ -21,12 +22,8 @@ namespace {
 // The body's depth points as a depth camera at the origin sees them (every 2nd pixel).
 std::vector<Eigen::Vector3d> renderedPoints(const BodyParameters& body, const CameraIntrinsics& K) {
   const BodyMesh posed = defaultModel().evaluate(body);
-  RenderMesh mesh;
-  mesh.vertices = posed.vertices;
-  mesh.triangles = posed.triangles;
-  mesh.colors.assign(mesh.vertices.size(), Eigen::Vector3f(0.5f, 0.5f, 0.5f));
-  mesh.label = 1;
-  mesh.computeVertexNormals();
+  const RenderMesh mesh =
+      bodyRenderMesh(posed, std::vector<Eigen::Vector3f>(posed.vertices.size(), Eigen::Vector3f::Constant(0.5f)), 1);
   RenderedImages images;
   Rasterizer().render({&mesh}, {}, K, Eigen::Isometry3d::Identity(), &images);
   return depthPointsFromImage(images.depth, K, 2);

@@ -8,6 +8,7 @@
 #include "pf2/humans/body_tracks.h"
 #include "pf2/humans/human_position.h"
 #include "pf2/humans/visible_centre.h"
+#include "pf2/synth/people.h"
 #include "pf2/synth/rasterizer.h"
 
 namespace pf2 {
@@ -35,12 +36,8 @@ BodyParameters body(const Eigen::Vector3d& pelvis_c) {
 // Eq. 2 as pf2_slam takes it from a depth image: the box of the person's pixels, at their mean depth.
 bool renderedCentre(const BodyParameters& b, Eigen::Vector3d* centre_c) {
   const BodyMesh mesh = model().evaluate(b);
-  RenderMesh person;
-  person.vertices = mesh.vertices;
-  person.triangles = mesh.triangles;
-  person.colors.assign(mesh.vertices.size(), Eigen::Vector3f(0.5f, 0.5f, 0.5f));
-  person.label = 1;
-  person.computeVertexNormals();
+  const RenderMesh person =
+      bodyRenderMesh(mesh, std::vector<Eigen::Vector3f>(mesh.vertices.size(), Eigen::Vector3f::Constant(0.5f)), 1);
   Rasterizer::Options options;
   options.parallel = false;
   RenderedImages images;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -169,6 +170,16 @@ double armLoweringAngle(const BodyModel& model, const Eigen::VectorXd& shape) {
   // Angle below the horizontal in the rest pose; hanging arms are about 80 degrees down.
   const double rest_down = std::atan2(-upper_arm.y(), std::abs(upper_arm.x()));
   return 80.0 * kPi / 180.0 - rest_down;
+}
+
+RenderMesh bodyRenderMesh(const BodyMesh& mesh, std::vector<Eigen::Vector3f> colors, std::uint16_t label) {
+  RenderMesh render;
+  render.vertices = mesh.vertices;
+  render.triangles = mesh.triangles;
+  render.colors = std::move(colors);
+  render.label = label;
+  render.computeVertexNormals();
+  return render;
 }
 
 namespace {

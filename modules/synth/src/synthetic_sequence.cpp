@@ -224,12 +224,7 @@ Frame SyntheticSequence::frame(size_t i, FrameGroundTruth* truth) const {
   std::vector<RenderMesh> person_meshes(crowd_->size());
   for (int k = 0; k < crowd_->size(); ++k) {
     posed[k] = crowd_->pose(k, t);
-    RenderMesh& mesh = person_meshes[k];
-    mesh.vertices = posed[k].mesh.vertices;
-    mesh.triangles = posed[k].mesh.triangles;
-    mesh.colors = crowd_->colors(k);
-    mesh.label = static_cast<std::uint16_t>(k + 1);
-    mesh.computeVertexNormals();
+    person_meshes[k] = bodyRenderMesh(posed[k].mesh, crowd_->colors(k), static_cast<std::uint16_t>(k + 1));
   }
   std::vector<const RenderMesh*> meshes = {&scene_->mesh()};
   for (const RenderMesh& mesh : person_meshes) meshes.push_back(&mesh);

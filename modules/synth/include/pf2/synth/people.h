@@ -33,6 +33,9 @@ JointRotations walkingPose(double phase, double amplitude, double arm_lowering);
 JointRotations sittingPose(double arm_lowering);
 // The angle that brings the rest-pose arms of `model` (shape `shape`) to hang down by the sides.
 double armLoweringAngle(const BodyModel& model, const Eigen::VectorXd& shape);
+// A posed body as the rasteriser draws it: the mesh's vertices and triangles, its normals, one
+// colour per vertex (BGR in [0, 1]) and the label its pixels get.
+RenderMesh bodyRenderMesh(const BodyMesh& mesh, std::vector<Eigen::Vector3f> colors, std::uint16_t label);
 
 class Crowd {
  public:
