@@ -318,6 +318,10 @@ TEST(BodyTrackFitter, FitsEveryNthFrameAndCountsWhatItDrops) {
   EXPECT_EQ(busy.dropped(), 20 - accepted);
   EXPECT_GT(busy.dropped(), 0);
   EXPECT_EQ(static_cast<int>(busy_fits.size()), accepted);
+  // Every fit that ran is timed once; without a refiner nothing is timed as "refine".
+  EXPECT_EQ(busy.stats().summary("fit").count, accepted);
+  EXPECT_GT(busy.stats().summary("fit").median_ms, 0.0);
+  EXPECT_EQ(busy.stats().summary("refine").count, 0);
 }
 
 // Keypoint refinement: the hook gets the observation's colour, the person's box and keypoints in
@@ -375,6 +379,7 @@ TEST(BodyTrackFitter, FitsTheRefinedKeypointsInTheFramesPixels) {
   const std::vector<BodyTrackFit> refined_fits = refined.finish();
   ASSERT_EQ(refined_fits.size(), 1u);
   EXPECT_EQ(calls, 1);
+  EXPECT_EQ(refined.stats().summary("refine").count, 1);
   EXPECT_LT(pixelError(refined_fits[0]), 3.0);
 
   options.refine_keypoints = nullptr;

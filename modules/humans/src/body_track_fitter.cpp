@@ -81,7 +81,7 @@ void BodyTrackFitter::run() {
 
 // The fitter's input: keypoints, the person's depth points, the up direction, and the warm start
 // (the previous fit moved into this camera frame) in *start when there is one.
-BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackState& track, BodyParameters* start) const {
+BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackState& track, BodyParameters* start) {
   BodyFitInput input;
   input.keypoints = o.keypoints;
   if (options_.refine_keypoints && !o.colour.empty()) {
@@ -89,6 +89,7 @@ BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackStat
     const cv::Rect2f box(o.box.x - o.colour_origin.x, o.box.y - o.colour_origin.y, o.box.width, o.box.height);
     std::array<BodyKeypoint, kCocoKeypointCount> refined = o.keypoints;
     for (BodyKeypoint& k : refined) k.u -= o.colour_origin.x, k.v -= o.colour_origin.y;
+    ScopedStageTimer timer(&stats_, "refine");
     if (options_.refine_keypoints(o.colour, box, &refined)) {
       for (int k = 0; k < kCocoKeypointCount; ++k) {
         input.keypoints[k] = {refined[k].u + o.colour_origin.x, refined[k].v + o.colour_origin.y, refined[k].confidence};
@@ -117,7 +118,11 @@ void BodyTrackFitter::fitOne(const BodyObservation& o) {
   const BodyFitInput input = fitInput(o, track, &start);
   // The shape is held only where the start carries it (a warm start); otherwise the shape prior.
   const bool hold_shape = input.previous && track.shapeHeld(options_.shape_fits);
-  const BodyFitResult result = (hold_shape ? fixed_shape_fitter_ : fitter_).fit(input, o.intrinsics);
+  BodyFitResult result;
+  {
+    ScopedStageTimer timer(&stats_, "fit");
+    result = (hold_shape ? fixed_shape_fitter_ : fitter_).fit(input, o.intrinsics);
+  }
   if (!result.valid) return;
   if (!track.shapeHeld(options_.shape_fits)) {
     Eigen::VectorXd shape = Eigen::VectorXd::Zero(BodyFitter::Options::kShapeCount);

@@ -39,7 +39,7 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
       << "\",\"world_up\":[" << s.up_w.x() << "," << s.up_w.y() << "," << s.up_w.z()
       << "],\"world_up_estimated\":" << (s.up_estimated ? "true" : "false") << ",\"stages\":" << stages.toJson()
-      << ",\"tracker_stages\":" << result.tracker_stages_json
+      << ",\"tracker_stages\":" << result.tracker_stages_json << ",\"body_stages\":" << result.body_stages_json
       << ",\"frame_status\":" << frameStatusJson(result.frame_status) << "}\n";
   return out.str();
 }

@@ -236,6 +236,7 @@ class SlamSystem::Pipeline {
       result.humans = pelvisTracks(result.bodies);
       result.summary.body_fits_offered = body_fitter_->offered();
       result.summary.body_fits_skipped = body_fitter_->dropped();
+      result.body_stages_json = body_fitter_->stats().toJson();
     } else if (track_humans_) {
       result.humans = humanTracks(records_, keyframe_poses);
     }

@@ -27,6 +27,7 @@
 #include "pf2/body/body_fitter.h"
 #include "pf2/body/body_model.h"
 #include "pf2/core/camera_intrinsics.h"
+#include "pf2/core/stage_timer.h"
 #include "pf2/core/work_queue.h"
 
 namespace pf2 {
@@ -100,12 +101,15 @@ class BodyTrackFitter {
 
   int offered() const { return offered_; }
   int dropped() const { return dropped_; }
+  // Wall-clock time of each fit's steps in the fitting thread: "refine" (the closer look at the
+  // keypoints, when there is one) and "fit" (BodyFitter::fit). Read it after finish().
+  const StageStats& stats() const { return stats_; }
 
  private:
   struct TrackState;
   void run();
   void fitOne(const BodyObservation& observation);
-  BodyFitInput fitInput(const BodyObservation& observation, const TrackState& track, BodyParameters* start) const;
+  BodyFitInput fitInput(const BodyObservation& observation, const TrackState& track, BodyParameters* start);
 
   const BodyModel& model_;
   const Options options_;
@@ -118,6 +122,7 @@ class BodyTrackFitter {
   std::exception_ptr error_;
   int offered_ = 0, dropped_ = 0;
   bool finished_ = false;
+  StageStats stats_;
   std::thread thread_;
 };
 

@@ -78,6 +78,7 @@ struct SlamResult {
   SceneOptions scene;                   // what writeSlamResult() puts into scene.ply / scene.obj
   std::vector<std::pair<double, TrackStatus>> frame_status;  // every frame's timestamp and status
   std::string tracker_stages_json;      // the tracker's sub-stage timings (StageStats::toJson)
+  std::string body_stages_json = "{}";  // the body thread's timings per fit (BodyTrackFitter::stats)
   std::shared_ptr<Mapper> map;          // the fused map at the final poses; null without one
   Mapper::ExportOptions map_files;      // which map files writeSlamResult() writes
 };
