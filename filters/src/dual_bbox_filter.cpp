@@ -323,20 +323,80 @@ DepthInterval backgroundInterval(const cv::Mat& depth, const std::vector<FilterB
   return principalInterval(depth, outside, cv::Rect(0, 0, size.width, size.height), histogram);
 }
 
+// The median measured depth under a person's keypoints scored at least options.joint_min_score,
+// or 0 when fewer than options.joint_min_count of them (or joint_min_count is 0).
+double jointDepth(const cv::Mat& depth, const PersonDetection& person, const DualBBoxFilter::Options& options) {
+  if (options.joint_min_count <= 0) return 0.0;
+  std::vector<float> depths;
+  for (const Keypoint2d& k : person.keypoints) {
+    const int u = cvRound(k.u), v = cvRound(k.v);
+    if (!(k.score >= options.joint_min_score) || u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
+    const float d = depth.at<float>(v, u);
+    if (d > 0.f && d < options.human_histogram.max_depth) depths.push_back(d);
+  }
+  if (static_cast<int>(depths.size()) < options.joint_min_count) return 0.0;
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  return depths[depths.size() / 2];
+}
+
+// The principal interval of the mask's pixels within half a window of `depth_m`.
+DepthInterval intervalNear(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi, double depth_m,
+                           const HistogramOptions& histogram) {
+  const float lo = static_cast<float>(depth_m - 0.5 * histogram.window);
+  const float hi = static_cast<float>(depth_m + 0.5 * histogram.window);
+  cv::Mat near = cv::Mat::zeros(depth.size(), CV_8U);
+  for (int v = roi.y; v < roi.y + roi.height; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const uint8_t* m = mask.ptr<uint8_t>(v);
+    uint8_t* out = near.ptr<uint8_t>(v);
+    for (int u = roi.x; u < roi.x + roi.width; ++u) out[u] = (m[u] && d[u] >= lo && d[u] <= hi) ? 255 : 0;
+  }
+  return principalInterval(depth, near, roi, histogram);
+}
+
+// True when another box overlapping box t found an interval overlapping t's (margins included).
+bool sharesAnotherPersonsDepth(size_t t, const std::vector<FilterBox>& boxes,
+                               const std::vector<DepthInterval>& intervals, double margin) {
+  for (size_t s = 0; s < boxes.size(); ++s) {
+    if (s == t || !intervals[s].valid || (boxes[s].rect & boxes[t].rect).empty()) continue;
+    if (intervals[t].min - margin < intervals[s].max + margin && intervals[s].min - margin < intervals[t].max + margin) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // Algorithm 1, (h_min, h_max) of each box: over the backend mask where it counts a depth (use_mask),
-// else over the box with the surround's density taken off.
+// else over the box with the surround's density taken off. A mask's principal depth can be a
+// nearer person's: a mask two people share is split by the nearest keypoint, which hands the
+// person behind the pixels of whoever stands in front around their joints, and the near person's
+// pixels, many at their size in the image, outweigh the far one's. So when a masked person's
+// interval is also an overlapping person's and the depth under their confident joints lies outside
+// it (beyond human_margin), it is taken again over the mask's pixels near the joints' depth. (The
+// joints alone are no proof: those of a near person cut by the border often land behind them.)
 std::vector<DepthInterval> humanIntervals(const cv::Mat& depth, const std::vector<FilterBox>& boxes,
-                                          const Detections& detections, const HistogramOptions& histogram) {
+                                          const Detections& detections, const DualBBoxFilter::Options& options) {
   std::vector<DepthInterval> intervals(boxes.size());
+  const HistogramOptions& histogram = options.human_histogram;
   for (size_t t = 0; t < boxes.size(); ++t) {
     const FilterBox& b = boxes[t];
     if (!b.mask.empty()) {
-      // With a mask the histogram is the person's already.
-      const cv::Mat& mask = detections.people[b.detection].mask;
-      intervals[t] = principalInterval(depth, mask, b.rect, histogram);
+      intervals[t] = principalInterval(depth, detections.people[b.detection].mask, b.rect, histogram);
       if (intervals[t].valid) continue;
     }
     intervals[t] = principalInterval(depth, cv::Mat(), b.rect, histogram, b.surround);
+  }
+  std::vector<DepthInterval> taken = intervals;
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    if (boxes[t].mask.empty() || !taken[t].valid) continue;
+    const PersonDetection& person = detections.people[boxes[t].detection];
+    const double joints = jointDepth(depth, person, options);
+    if (joints <= 0.0 || taken[t].contains(joints, options.human_margin) ||
+        !sharesAnotherPersonsDepth(t, boxes, taken, options.human_margin)) {
+      continue;
+    }
+    const DepthInterval at_joints = intervalNear(depth, person.mask, boxes[t].rect, joints, histogram);
+    if (at_joints.valid) intervals[t] = at_joints;
   }
   return intervals;
 }
@@ -534,7 +594,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   result.background = backgroundInterval(depth, boxes, o.background_histogram, outside_);
   state_.create(depth.size(), CV_8U);
   state_.setTo(0);
-  const std::vector<DepthInterval> intervals = humanIntervals(depth, boxes, detections, o.human_histogram);
+  const std::vector<DepthInterval> intervals = humanIntervals(depth, boxes, detections, o);
   const float human_margin = static_cast<float>(o.human_margin);
   std::vector<DepthInterval> second_intervals(boxes.size());
   if (o.separate_occlusions) {

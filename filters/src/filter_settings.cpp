@@ -28,6 +28,10 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->integer("filter.mask_dilation", &f->mask_dilation, 0, 50, "pixels", "dilation of a person mask");
   s->integer("filter.mask_reach", &f->mask_box_reach, 0, 200, "pixels",
              "with masks, the box and ring rules act only this near a person's mask (0 = everywhere, the paper)");
+  s->integer("filter.joint_min_count", &f->joint_min_count, 0, 17, "keypoints",
+             "with masks, a person's interval is taken again near the median depth under at least this many "
+             "confident keypoints when it lies outside it (0 = off)");
+  s->number("filter.joint_min_score", &f->joint_min_score, 0.0, 1.0, "score", "confident keypoint: at least this score");
   s->integer("filter.depth_gate_radius", &f->depth_gate.radius, 0, 100, "pixels",
              "with masks, depth the box, ring or temporal rule removed outside the masks is given back when it lies "
              "apart from the masked person depth within this window (0 = off, the paper)");

@@ -132,6 +132,10 @@ class DualBBoxFilter {
                                      // this many pixels of it (the floor at a person's feet and the
                                      // wall beside them lie in the box at the person's depth);
                                      // 0 = everywhere in the box and ring (the paper)
+    int joint_min_count = 3;         // with a mask: when the median depth under at least this many
+                                     // confident keypoints lies outside the mask's interval, the
+                                     // interval is taken again near it (see the .cpp; 0 = off)
+    double joint_min_score = 0.3;    // confident keypoint: score at least this
     PersonDepthGate::Options depth_gate;  // with masks: removed depth apart from the person's depth
                                      // around it is given back (PersonDepthGate; radius 0 = off)
     bool temporal = false;           // guard with last frame's person pixels (TemporalGuard)
