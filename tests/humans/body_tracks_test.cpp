@@ -96,7 +96,8 @@ TEST(BodyTrackAssembler, PlacesAFitByEq4WithTheFinalKeyframePose) {
   EXPECT_LT((people[0].points[0].p_w - T_w_c * joints_c[0]).norm(), 1e-9);
 }
 
-// Between two fits the pelvis moves linearly and the joints rotate halfway (slerp); before the
+// Between two fits (with no others beyond them) the pelvis moves linearly and the joints rotate
+// halfway (slerp); before the
 // first fit and after the last the body is the nearest fit's, moved with the eq. 2 centre, however
 // far that fit is (the centre alone lies on the visible side of the body: a seated person's
 // centre is a quarter metre above the pelvis). The placement by the visible centre, which differs
@@ -131,6 +132,36 @@ TEST(BodyTrackAssembler, InterpolatesBetweenFitsAndPlacesTheRest) {
   EXPECT_NEAR(frames[5].body_w.pose[1].x(), 0.2, 1e-9);
   // One shape for the whole track: the mean of its fits.
   for (const BodyTrackFrame& f : frames) EXPECT_LT((f.body_w.shape - a.shape).norm(), 1e-12);
+}
+
+// A person walking a circle of 1 m radius at 1 m/s, fitted every 0.1 s but for a second: across
+// the gap the pelvis follows the track's velocity on both sides (velocity_span, taken over 0.5 s, so
+// a little behind the turn), within half of the 12 cm by which the straight line between the
+// gap's two fits cuts the circle.
+TEST(BodyTrackAssembler, FollowsTheTracksCurveAcrossAGapBetweenFits) {
+  const auto on_circle = [](double t) { return Eigen::Vector3d(std::sin(t), 0.1, 3.0 - std::cos(t)); };
+  const BodyParameters body = personInCamera();
+  const Eigen::Vector3d rest_pelvis = model().restJoints(body.shape)[0];
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  for (int f = 0; f <= 20; ++f) {
+    seen.push_back(sightingAt(f, 0.1 * f, on_circle(0.1 * f)));
+    if (f > 5 && f < 15) continue;
+    BodyParameters fitted = body;
+    fitted.translation = on_circle(0.1 * f) - rest_pelvis;
+    fits.push_back(fitAt(f, 0.1 * f, fitted));
+  }
+  BodyTrackAssembler::Options options = noSmoothing();
+  const auto middleError = [&](const BodyTrackAssembler::Options& o) {
+    const std::vector<BodyTrack> tracks =
+        BodyTrackAssembler(model(), o).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+    EXPECT_EQ(tracks.size(), 1u);
+    EXPECT_FALSE(tracks[0].frames[10].fitted);
+    return (tracks[0].frames[10].pelvis_w - on_circle(1.0)).norm();
+  };
+  EXPECT_LT(middleError(options), 0.5 * (1.0 - std::cos(0.5)));
+  options.velocity_span = 0;
+  EXPECT_NEAR(middleError(options), 1.0 - std::cos(0.5), 1e-6);
 }
 
 // The joints' rotations are smoothed over time: a knee whose fits jitter by +-0.1 rad around

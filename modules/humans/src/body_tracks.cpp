@@ -222,6 +222,29 @@ bool BodyTrackAssembler::pelvisByVisibleCentre(const PersonSighting& s, const Ei
   return true;
 }
 
+Eigen::Vector3d BodyTrackAssembler::translationBetweenFits(const std::vector<const BodyTrackFit*>& fitted,
+                                                           const std::vector<BodyParameters>& bodies, size_t a,
+                                                           double x) const {
+  const size_t b = a + 1;
+  const double duration = fitted[b]->timestamp - fitted[a]->timestamp;
+  const Eigen::Vector3d chord = (bodies[b].translation - bodies[a].translation) / duration;
+  if (!(options_.velocity_span > 0.0) || !(duration > 0.0)) return bodies[a].translation + x * duration * chord;
+  // The velocity from fit `end` to the first fit at least velocity_span beyond it in `step`'s
+  // direction, when that one lies within max_gap of it.
+  const auto velocity = [&](size_t end, int step) {
+    for (long k = static_cast<long>(end) + step; k >= 0 && k < static_cast<long>(fitted.size()); k += step) {
+      const double dt = fitted[k]->timestamp - fitted[end]->timestamp;
+      if (std::abs(dt) < options_.velocity_span) continue;
+      if (std::abs(dt) > options_.max_gap) break;
+      return Eigen::Vector3d((bodies[k].translation - bodies[end].translation) / dt);
+    }
+    return chord;
+  };
+  const double x2 = x * x, x3 = x2 * x;
+  return (2 * x3 - 3 * x2 + 1) * bodies[a].translation + (x3 - 2 * x2 + x) * duration * velocity(a, -1) +
+         (3 * x2 - 2 * x3) * bodies[b].translation + (x3 - x2) * duration * velocity(b, +1);
+}
+
 BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
                                             std::vector<const BodyTrackFit*> fitted,
                                             const std::map<int, Eigen::Isometry3d>& keyframe_poses,
@@ -264,6 +287,7 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
       body = bodies[next];
     } else if (before + after <= options_.max_gap) {
       body = interpolateBodies(bodies[next - 1], bodies[next], before / (before + after));
+      body.translation = translationBetweenFits(fitted, bodies, next - 1, before / (before + after));
     } else if (!fitted.empty()) {  // the nearest fit's pose, moved with the eq. 2 centre
       const size_t nearest = before <= after ? next - 1 : next;
       body = bodies[nearest];

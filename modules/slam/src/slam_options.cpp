@@ -218,6 +218,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.refine_margin", &o.keypoint_refiner.margin, 0.0, 2.0, "",
            "the crop's side is (1 + this) times the person's box's longer side");
   s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
+  s.number("bodies.velocity_span", &o.body_tracks.velocity_span, 0.0, 10.0, "seconds",
+           "between fits the pelvis follows a cubic curve with the velocity over this span beyond each (0 = a line)");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");
   s.number("bodies.pose_smoothing", &o.body_tracks.pose_smoothing_sigma, 0.0, 5.0, "seconds",
