@@ -76,8 +76,8 @@ class BodyTrackAssembler {
     // that of the fits this far beyond it (their chord if there is none within max_gap), not the
     // straight line: a person walks curves, and across a gap of a second the chord cuts them by
     // 10-20 cm. [0, 10]; 0 = the straight line. (pf2_slam, repeatable runs, track RMSE summed over
-    // nine pf2_synth sequences 54.2 -> 52.4 cm, six held-out 39.1 -> 38.7 with 0.5 s; 0.3 s: 52.8,
-    // 0.8 s: 52.0.)
+    // nine pf2_synth sequences 54.2 -> 52.4 cm, six held-out 39.1 -> 38.7 with 0.5 s; spans of
+    // 0.3-0.8 s gave 52.0-52.8, BENCHMARKS "Bodies in the map".)
     double velocity_span = 0.5;
     double smoothing_sigma = 0.1;  // s: Gaussian smoothing of the pelvis over time (0 = none), [0, 5]
     // s: Gaussian smoothing of every joint's rotation over time (0 = none), [0, 5]. The fits
