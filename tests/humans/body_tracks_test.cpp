@@ -164,6 +164,36 @@ TEST(BodyTrackAssembler, FollowsTheTracksCurveAcrossAGapBetweenFits) {
   EXPECT_NEAR(middleError(options), 1.0 - std::cos(0.5), 1e-6);
 }
 
+// A person walking at 1 m/s along x, fitted up to 1 s, then seen for 0.3 s more with their eq. 2
+// centre stuck where the last fit was (the sliver of them still in view as they step behind
+// someone): those frames move on with the track's velocity (max_extrapolation), not with the centre.
+TEST(BodyTrackAssembler, MovesOnWithTheTrackAfterItsLastFit) {
+  const auto on_line = [](double t) { return Eigen::Vector3d(t, 0.1, 3.0); };
+  const BodyParameters body = personInCamera();
+  const Eigen::Vector3d rest_pelvis = model().restJoints(body.shape)[0];
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  for (int f = 0; f <= 13; ++f) {
+    seen.push_back(sightingAt(f, 0.1 * f, on_line(std::min(0.1 * f, 1.0))));
+    if (f > 10) continue;
+    BodyParameters fitted = body;
+    fitted.translation = on_line(0.1 * f) - rest_pelvis;
+    fits.push_back(fitAt(f, 0.1 * f, fitted));
+  }
+  BodyTrackAssembler::Options options = noSmoothing();
+  options.visible_centre = false;
+  const auto lastPelvis = [&](const BodyTrackAssembler::Options& o) {
+    const std::vector<BodyTrack> tracks =
+        BodyTrackAssembler(model(), o).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+    EXPECT_EQ(tracks.size(), 1u);
+    EXPECT_FALSE(tracks[0].frames.back().fitted);
+    return tracks[0].frames.back().pelvis_w;
+  };
+  EXPECT_LT((lastPelvis(options) - on_line(1.3)).norm(), 1e-9);
+  options.max_extrapolation = 0.2;  // 0.3 s after the last fit: beyond it, placed by the centre
+  EXPECT_LT((lastPelvis(options) - on_line(1.0)).norm(), 1e-9);
+}
+
 // The joints' rotations are smoothed over time: a knee whose fits jitter by +-0.1 rad around
 // 0.3 rad from one frame to the next (30 fps) comes out within a few hundredths of 0.3 in the
 // middle of the track, with its joints following the smoothed pose; the pelvis does not move, and

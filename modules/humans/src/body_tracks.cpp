@@ -222,6 +222,20 @@ bool BodyTrackAssembler::pelvisByVisibleCentre(const PersonSighting& s, const Ei
   return true;
 }
 
+bool BodyTrackAssembler::trackVelocity(const std::vector<const BodyTrackFit*>& fitted,
+                                       const std::vector<BodyParameters>& bodies, size_t end, int step,
+                                       Eigen::Vector3d* velocity) const {
+  if (!(options_.velocity_span > 0.0)) return false;
+  for (long k = static_cast<long>(end) + step; k >= 0 && k < static_cast<long>(fitted.size()); k += step) {
+    const double dt = fitted[k]->timestamp - fitted[end]->timestamp;
+    if (std::abs(dt) < options_.velocity_span) continue;
+    if (std::abs(dt) > options_.max_gap) break;
+    *velocity = (bodies[k].translation - bodies[end].translation) / dt;
+    return true;
+  }
+  return false;
+}
+
 Eigen::Vector3d BodyTrackAssembler::translationBetweenFits(const std::vector<const BodyTrackFit*>& fitted,
                                                            const std::vector<BodyParameters>& bodies, size_t a,
                                                            double x) const {
@@ -229,20 +243,12 @@ Eigen::Vector3d BodyTrackAssembler::translationBetweenFits(const std::vector<con
   const double duration = fitted[b]->timestamp - fitted[a]->timestamp;
   const Eigen::Vector3d chord = (bodies[b].translation - bodies[a].translation) / duration;
   if (!(options_.velocity_span > 0.0) || !(duration > 0.0)) return bodies[a].translation + x * duration * chord;
-  // The velocity from fit `end` to the first fit at least velocity_span beyond it in `step`'s
-  // direction, when that one lies within max_gap of it.
-  const auto velocity = [&](size_t end, int step) {
-    for (long k = static_cast<long>(end) + step; k >= 0 && k < static_cast<long>(fitted.size()); k += step) {
-      const double dt = fitted[k]->timestamp - fitted[end]->timestamp;
-      if (std::abs(dt) < options_.velocity_span) continue;
-      if (std::abs(dt) > options_.max_gap) break;
-      return Eigen::Vector3d((bodies[k].translation - bodies[end].translation) / dt);
-    }
-    return chord;
-  };
+  Eigen::Vector3d va = chord, vb = chord;
+  trackVelocity(fitted, bodies, a, -1, &va);
+  trackVelocity(fitted, bodies, b, +1, &vb);
   const double x2 = x * x, x3 = x2 * x;
-  return (2 * x3 - 3 * x2 + 1) * bodies[a].translation + (x3 - 2 * x2 + x) * duration * velocity(a, -1) +
-         (3 * x2 - 2 * x3) * bodies[b].translation + (x3 - x2) * duration * velocity(b, +1);
+  return (2 * x3 - 3 * x2 + 1) * bodies[a].translation + (x3 - 2 * x2 + x) * duration * va +
+         (3 * x2 - 2 * x3) * bodies[b].translation + (x3 - x2) * duration * vb;
 }
 
 BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
@@ -288,19 +294,26 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     } else if (before + after <= options_.max_gap) {
       body = interpolateBodies(bodies[next - 1], bodies[next], before / (before + after));
       body.translation = translationBetweenFits(fitted, bodies, next - 1, before / (before + after));
-    } else if (!fitted.empty()) {  // the nearest fit's pose, moved with the eq. 2 centre
+    } else if (!fitted.empty()) {  // the nearest fit's pose, moved on with the track or the eq. 2 centre
       const size_t nearest = before <= after ? next - 1 : next;
       body = bodies[nearest];
-      const Eigen::Vector3d by_offset = centre_w(*s) + offsets[nearest];
-      Eigen::Vector3d pelvis_w = by_offset;
-      if (!views.empty() && views[nearest].valid) {
-        auto vertices = vertices_of_fit.find(nearest);
-        if (vertices == vertices_of_fit.end()) {
-          vertices = vertices_of_fit.emplace(nearest, verticesAboutPelvis(bodies[nearest], rest_pelvis)).first;
+      const double since = t - fitted[nearest]->timestamp;
+      Eigen::Vector3d velocity;
+      if ((next == 0 || next == fitted.size()) && std::abs(since) <= options_.max_extrapolation &&
+          trackVelocity(fitted, bodies, nearest, next == 0 ? +1 : -1, &velocity)) {
+        body.translation += since * velocity;
+      } else {
+        const Eigen::Vector3d by_offset = centre_w(*s) + offsets[nearest];
+        Eigen::Vector3d pelvis_w = by_offset;
+        if (!views.empty() && views[nearest].valid) {
+          auto vertices = vertices_of_fit.find(nearest);
+          if (vertices == vertices_of_fit.end()) {
+            vertices = vertices_of_fit.emplace(nearest, verticesAboutPelvis(bodies[nearest], rest_pelvis)).first;
+          }
+          pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], vertices->second, by_offset, image, &pelvis_w);
         }
-        pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], vertices->second, by_offset, image, &pelvis_w);
+        placePelvis(pelvis_w, rest_pelvis, &body);
       }
-      placePelvis(pelvis_w, rest_pelvis, &body);
     } else {
       body = standingBody(track.shape);
       body.pose[0] = axisAngle(humanToWorld(T_w_c(*s), centre_w(*s)).linear());

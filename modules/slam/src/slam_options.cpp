@@ -220,6 +220,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.max_gap", &o.body_tracks.max_gap, 0.0, 60.0, "seconds", "fits further apart are not interpolated");
   s.number("bodies.velocity_span", &o.body_tracks.velocity_span, 0.0, 10.0, "seconds",
            "between fits the pelvis follows a cubic curve with the velocity over this span beyond each (0 = a line)");
+  s.number("bodies.max_extrapolation", &o.body_tracks.max_extrapolation, 0.0, 10.0, "seconds",
+           "frames this close before a track's first fit or after its last move on with the track's velocity (0 = off)");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");
   s.number("bodies.pose_smoothing", &o.body_tracks.pose_smoothing_sigma, 0.0, 5.0, "seconds",
