@@ -388,13 +388,12 @@ std::vector<DepthInterval> humanIntervals(const cv::Mat& depth, const std::vecto
   }
   std::vector<DepthInterval> taken = intervals;
   for (size_t t = 0; t < boxes.size(); ++t) {
-    if (boxes[t].mask.empty() || !taken[t].valid) continue;
-    const PersonDetection& person = detections.people[boxes[t].detection];
-    const double joints = jointDepth(depth, person, options);
-    if (joints <= 0.0 || taken[t].contains(joints, options.human_margin) ||
-        !sharesAnotherPersonsDepth(t, boxes, taken, options.human_margin)) {
+    if (boxes[t].mask.empty() || !taken[t].valid || !sharesAnotherPersonsDepth(t, boxes, taken, options.human_margin)) {
       continue;
     }
+    const PersonDetection& person = detections.people[boxes[t].detection];
+    const double joints = jointDepth(depth, person, options);
+    if (joints <= 0.0 || taken[t].contains(joints, options.human_margin)) continue;
     const DepthInterval at_joints = intervalNear(depth, person.mask, boxes[t].rect, joints, histogram);
     if (at_joints.valid) intervals[t] = at_joints;
   }
