@@ -91,6 +91,11 @@ double shareInInterval(const cv::Mat& depth, const cv::Rect& rect, const DepthIn
   return valid > 0 ? static_cast<double>(inside) / valid : 0.0;
 }
 
+// Whether two intervals, each widened by margin, overlap.
+bool intervalsOverlap(const DepthInterval& a, const DepthInterval& b, double margin) {
+  return a.min - margin < b.max + margin && b.min - margin < a.max + margin;
+}
+
 // Two overlapping boxes whose intervals overlap may have found one person: the nearer of two
 // people, who occludes the other, or the farther one seen through a gap. The box where that depth
 // fills the smaller share then takes a second interval over its depths outside the first (the
@@ -108,7 +113,7 @@ void findOccludedIntervals(const cv::Mat& depth, const std::vector<FilterBox>& b
       const DepthInterval& mine = intervals[t];
       const DepthInterval& theirs = intervals[s];
       if (s == t || !mine.valid || !theirs.valid || (boxes[s].rect & boxes[t].rect).empty()) continue;
-      if (mine.min - margin >= theirs.max + margin || theirs.min - margin >= mine.max + margin) continue;
+      if (!intervalsOverlap(mine, theirs, margin)) continue;
       if (shareInInterval(depth, boxes[t].rect, mine, margin) >= shareInInterval(depth, boxes[s].rect, theirs, margin)) {
         continue;  // the person is this box's
       }
@@ -359,9 +364,7 @@ bool sharesAnotherPersonsDepth(size_t t, const std::vector<FilterBox>& boxes,
                                const std::vector<DepthInterval>& intervals, double margin) {
   for (size_t s = 0; s < boxes.size(); ++s) {
     if (s == t || !intervals[s].valid || (boxes[s].rect & boxes[t].rect).empty()) continue;
-    if (intervals[t].min - margin < intervals[s].max + margin && intervals[s].min - margin < intervals[t].max + margin) {
-      return true;
-    }
+    if (intervalsOverlap(intervals[t], intervals[s], margin)) return true;
   }
   return false;
 }

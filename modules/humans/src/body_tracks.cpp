@@ -241,8 +241,9 @@ Eigen::Vector3d BodyTrackAssembler::translationBetweenFits(const std::vector<con
                                                            double x) const {
   const size_t b = a + 1;
   const double duration = fitted[b]->timestamp - fitted[a]->timestamp;
+  if (!(duration > 0.0)) return bodies[a].translation;
+  // Without a velocity beyond an end, the chord's: with both, the curve is the straight line.
   const Eigen::Vector3d chord = (bodies[b].translation - bodies[a].translation) / duration;
-  if (!(options_.velocity_span > 0.0) || !(duration > 0.0)) return bodies[a].translation + x * duration * chord;
   Eigen::Vector3d va = chord, vb = chord;
   trackVelocity(fitted, bodies, a, -1, &va);
   trackVelocity(fitted, bodies, b, +1, &vb);
