@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/detection/keypoint_depth.h"
 #include "image_ops.h"
 
 namespace pf2 {
@@ -332,16 +333,8 @@ DepthInterval backgroundInterval(const cv::Mat& depth, const std::vector<FilterB
 // or 0 when fewer than options.joint_min_count of them (or joint_min_count is 0).
 double jointDepth(const cv::Mat& depth, const PersonDetection& person, const DualBBoxFilter::Options& options) {
   if (options.joint_min_count <= 0) return 0.0;
-  std::vector<float> depths;
-  for (const Keypoint2d& k : person.keypoints) {
-    const int u = cvRound(k.u), v = cvRound(k.v);
-    if (!(k.score >= options.joint_min_score) || u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
-    const float d = depth.at<float>(v, u);
-    if (d > 0.f && d < options.human_histogram.max_depth) depths.push_back(d);
-  }
-  if (static_cast<int>(depths.size()) < options.joint_min_count) return 0.0;
-  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-  return depths[depths.size() / 2];
+  return medianDepthAtKeypoints(depth, cv::Point(0, 0), person.keypoints, options.joint_min_score,
+                                options.joint_min_count, options.human_histogram.max_depth);
 }
 
 // The principal interval of the mask's pixels within half a window of `depth_m`.

@@ -17,6 +17,7 @@
 #include "pf2/io/frame_streams.h"
 #include "pf2/io/image_file.h"
 #include "pf2/slam/motion_guess.h"
+#include "pf2/slam/person_centres.h"
 #include "pf2/slam/slam_runner.h"
 #include "pf2/surface/up_direction.h"
 #include "mapping_thread.h"
@@ -36,34 +37,6 @@ struct FrameRecord {
   // written at the end with the corrected pose, in the world frame of trajectory.txt.
   std::vector<std::pair<int, Eigen::Vector3d>> people_c;
 };
-
-// Eq. 2 for each person the filter separated: box centre at the mean depth of their D_h^t. With
-// in_interval, a person whose detection came with a mask averages only the depths inside their
-// interval widened by `margin`: the dilated mask is taken whatever its depth, so it brings in the
-// edges of whoever stands in front or behind (without a mask the filter has already kept only
-// depths of the person's intervals). People whose depths cover less than min_area of the image
-// get no centre. *person_of_centre gets the index into filtered.people of each centre.
-std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
-                                           const CameraIntrinsics& K, bool in_interval, double margin,
-                                           double min_area, std::vector<size_t>* person_of_centre) {
-  const double min_pixels = min_area * filtered.static_depth.total();
-  std::vector<Eigen::Vector3d> centres_c;
-  for (size_t index = 0; index < filtered.people.size(); ++index) {
-    const DualBBoxFilter::Person& person = filtered.people[index];
-    const bool masked = person.detection >= 0 && person.detection < static_cast<int>(detections.people.size()) &&
-                        !detections.people[person.detection].mask.empty();
-    const bool use_interval = in_interval && masked && person.interval.valid;
-    long pixels = 0;
-    const double d_m = meanDepth(person.depth, use_interval ? person.interval.min - margin : 0.0,
-                                 use_interval ? person.interval.max + margin : std::numeric_limits<double>::infinity(),
-                                 &pixels);
-    if (pixels == 0 || pixels < min_pixels) continue;
-    centres_c.push_back(humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr,
-                                            person.box.y_lr, d_m, K));
-    person_of_centre->push_back(index);
-  }
-  return centres_c;
-}
 
 // The people's tracks from the final poses: p_w = T_w_c p_c (eq. 3) with T_w_c = T_w_k (corrected) T_k_c.
 std::vector<HumanTrack> humanTracks(const std::vector<FrameRecord>& records,
@@ -353,8 +326,7 @@ class SlamSystem::Pipeline {
     ScopedStageTimer timer(stats_, "humans");
     std::vector<size_t> person_of_centre;
     const std::vector<Eigen::Vector3d> people_c =
-        personCentres(filtered, detections, frame.intrinsics, options_.human_depth_in_interval,
-                      options_.filter.human_margin, options_.human_min_area, &person_of_centre);
+        personCentres(filtered, detections, frame.intrinsics, options_, &person_of_centre);
     std::vector<Eigen::Vector3d> people_w;
     std::vector<PersonAppearance> appearances;
     if (record->has_pose) {

@@ -1,0 +1,68 @@
+// Eq. 2's d_m of one person whose mask also holds someone else's depth.
+#include <gtest/gtest.h>
+
+#include "pf2/slam/person_centres.h"
+
+namespace pf2 {
+namespace {
+
+// A mask the segmentation merged over two people: `front_columns` of the person's 40 x 80 pixel
+// area at 2 m (someone in front), the rest at 3 m, all in one interval; the pose's keypoints lie on
+// the 3 m part.
+struct MergedMask {
+  DualBBoxFilter::Person person;
+  PersonDetection detection;
+  explicit MergedMask(int front_columns) {
+    person.detection = 0;
+    person.area = cv::Rect(100, 50, 40, 80);
+    person.depth = cv::Mat(80, 40, CV_32F, cv::Scalar(3.0f));
+    person.depth.colRange(0, front_columns).setTo(2.0f);
+    person.interval = {1.9, 3.1, true};
+    detection.mask = cv::Mat::zeros(480, 640, CV_8U);
+    detection.mask(person.area).setTo(255);
+    for (int i = 0; i < 6; ++i) detection.keypoints.push_back({136.f, 60.f + 10 * i, 0.9f});
+  }
+};
+
+double centreDepth(const MergedMask& scene, const SlamOptions& options) {
+  long pixels = 0;
+  const double d_m = personCentreDepth(scene.person, &scene.detection, options, &pixels);
+  EXPECT_EQ(pixels, 40 * 80);  // every depth of the interval is the person's evidence
+  return d_m;
+}
+
+TEST(PersonCentreDepth, TakesTheDepthsAroundTheBodyItsKeypointsLieOn) {
+  const MergedMask scene(24);  // 60 % at 2 m in front, 40 % at 3 m
+  SlamOptions options;
+  ASSERT_GT(options.human_joint_band, 0.0);
+  EXPECT_NEAR(centreDepth(scene, options), 3.0, 1e-6);
+  // Off: the interval's mean, between the two people.
+  options.human_joint_band = 0.0;
+  EXPECT_NEAR(centreDepth(scene, options), 2.4, 1e-6);
+  // Keypoints too unsure to say whose body this is: the interval's mean as well.
+  options = SlamOptions();
+  MergedMask unsure(24);
+  for (Keypoint2d& k : unsure.detection.keypoints) k.score = 0.1f;
+  EXPECT_NEAR(centreDepth(unsure, options), 2.4, 1e-6);
+}
+
+TEST(PersonCentreDepth, KeypointsOnASliverBehindTheMaskKeepTheIntervalsMean) {
+  // The keypoints of a near person cut by the border may land beside them, on a few of the mask's
+  // edge pixels at the wall's depth: 10 % of the depths, below human_joint_min_share.
+  const MergedMask scene(36);
+  SlamOptions options;
+  ASSERT_GT(options.human_joint_min_share, 0.1);
+  EXPECT_NEAR(centreDepth(scene, options), 0.9 * 2.0 + 0.1 * 3.0, 1e-6);
+}
+
+TEST(PersonCentreDepth, ABoxWithoutMaskUsesAllItsDepths) {
+  const MergedMask scene(24);
+  PersonDetection box_only = scene.detection;
+  box_only.mask.release();
+  long pixels = 0;
+  EXPECT_NEAR(personCentreDepth(scene.person, &box_only, SlamOptions(), &pixels), 2.4, 1e-6);
+  EXPECT_NEAR(personCentreDepth(scene.person, nullptr, SlamOptions(), &pixels), 2.4, 1e-6);
+}
+
+}  // namespace
+}  // namespace pf2
