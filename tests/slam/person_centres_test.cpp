@@ -1,4 +1,5 @@
-// Eq. 2's d_m of one person whose mask also holds someone else's depth.
+// Which depths are a person's own when their mask also holds someone else's: for eq. 2's d_m and
+// for their body fit.
 #include <gtest/gtest.h>
 
 #include "pf2/slam/person_centres.h"
@@ -62,6 +63,20 @@ TEST(PersonCentreDepth, ABoxWithoutMaskUsesAllItsDepths) {
   long pixels = 0;
   EXPECT_NEAR(personCentreDepth(scene.person, &box_only, SlamOptions(), &pixels), 2.4, 1e-6);
   EXPECT_NEAR(personCentreDepth(scene.person, nullptr, SlamOptions(), &pixels), 2.4, 1e-6);
+}
+
+TEST(BodyDepth, KeepsOnlyTheDepthsOfTheBodyTheKeypointsLieOn) {
+  const MergedMask scene(24);
+  const cv::Mat own = bodyDepth(scene.person, scene.detection, SlamOptions());
+  ASSERT_EQ(own.size(), scene.person.depth.size());
+  EXPECT_EQ(cv::countNonZero(own == 3.0f), 16 * 80);
+  EXPECT_EQ(cv::countNonZero(own), 16 * 80);  // the 2 m person in front is gone
+  // No band (keypoints on a sliver; or off): the person's depth as the filter left it, shared.
+  const MergedMask sliver(36);
+  EXPECT_EQ(bodyDepth(sliver.person, sliver.detection, SlamOptions()).data, sliver.person.depth.data);
+  SlamOptions off;
+  off.human_joint_band = 0.0;
+  EXPECT_EQ(bodyDepth(scene.person, scene.detection, off).data, scene.person.depth.data);
 }
 
 }  // namespace

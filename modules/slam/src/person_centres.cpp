@@ -8,13 +8,27 @@
 
 namespace pf2 {
 
+bool keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                       const SlamOptions& options, long own_pixels, double* min_depth, double* max_depth) {
+  if (detection.mask.empty() || !(options.human_joint_band > 0.0) || own_pixels == 0) return false;
+  const double joints =
+      medianDepthAtKeypoints(person.depth, person.area.tl(), detection.keypoints, options.filter.joint_min_score,
+                             std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
+  if (joints <= 0.0) return false;
+  long near_pixels = 0;
+  meanDepth(person.depth, joints - options.human_joint_band, joints + options.human_joint_band, &near_pixels);
+  // Fewer: the keypoints lie on a sliver (those of a near person cut by the border may land on
+  // the wall at the mask's edge).
+  if (near_pixels == 0 || near_pixels < options.human_joint_min_share * own_pixels) return false;
+  *min_depth = joints - options.human_joint_band;
+  *max_depth = joints + options.human_joint_band;
+  return true;
+}
+
 // With human_depth_in_interval, a person whose detection came with a mask averages only the depths
 // inside their interval widened by the filter's human_margin: the dilated mask is taken whatever
 // its depth, so it brings in the edges of whoever stands in front or behind (without a mask the
-// filter has already kept only depths of the person's intervals). With human_joint_band, of those
-// only the ones near the depth under the person's keypoints, when enough lie there: a mask that
-// merged two people, one in front of the other, holds both in one interval and its mean lies
-// between them.
+// filter has already kept only depths of the person's intervals).
 double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetection* detection,
                          const SlamOptions& options, long* pixels) {
   const bool masked = detection && !detection->mask.empty();
@@ -23,15 +37,21 @@ double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetec
   const double d_m = meanDepth(person.depth, use_interval ? person.interval.min - margin : 0.0,
                                use_interval ? person.interval.max + margin : std::numeric_limits<double>::infinity(),
                                pixels);
-  if (!masked || !(options.human_joint_band > 0.0) || *pixels == 0) return d_m;
-  const double joints =
-      medianDepthAtKeypoints(person.depth, person.area.tl(), detection->keypoints, options.filter.joint_min_score,
-                             std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
-  if (joints <= 0.0) return d_m;
-  long near_pixels = 0;
-  const double d_near =
-      meanDepth(person.depth, joints - options.human_joint_band, joints + options.human_joint_band, &near_pixels);
-  return near_pixels > 0 && near_pixels >= options.human_joint_min_share * *pixels ? d_near : d_m;
+  double min_depth = 0.0, max_depth = 0.0;
+  if (!detection || !keypointDepthBand(person, *detection, options, *pixels, &min_depth, &max_depth)) return d_m;
+  return meanDepth(person.depth, min_depth, max_depth);
+}
+
+cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection, const SlamOptions& options) {
+  long own_pixels = 0;
+  personCentreDepth(person, &detection, options, &own_pixels);
+  double min_depth = 0.0, max_depth = 0.0;
+  if (!keypointDepthBand(person, detection, options, own_pixels, &min_depth, &max_depth)) return person.depth;
+  // A person in front whose depths entered the mask would draw the fit's depth terms (and the
+  // surface alignment) onto their surface.
+  cv::Mat own = cv::Mat::zeros(person.depth.size(), CV_32F);
+  person.depth.copyTo(own, (person.depth > min_depth) & (person.depth < max_depth));
+  return own;
 }
 
 // Box centre at d_m (eq. 2). People whose depths cover less than human_min_area of the image get no

@@ -163,7 +163,7 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.boolean("humans.depth_in_interval", &o.human_depth_in_interval,
             "d_m over the person's depths inside their interval; false = all of D_h^t (the paper)");
   s.number("humans.joint_band", &o.human_joint_band, 0.0, 5.0, "metres",
-           "a masked person's d_m over their depths this near the median depth under their confident keypoints (0 = off)");
+           "a masked person's d_m and body fit use only their depths this near the median depth under their confident keypoints (0 = off)");
   s.number("humans.joint_min_share", &o.human_joint_min_share, 0.0, 1.0, "fraction",
            "... when at least this share of their depths lie there (else all of the interval's)");
   s.number("humans.min_area", &o.human_min_area, 0.0, 1.0, "fraction", "no centre for a person covering less of the image");

@@ -377,7 +377,8 @@ class SlamSystem::Pipeline {
     observation.track_id = id;
     observation.frame_index = frame_index;
     observation.timestamp = frame.timestamp;
-    observation.depth = person.depth;  // shared, not copied: the filter's result is not changed after
+    // Shared, not copied, where it is person.depth: the filter's result is not changed after.
+    observation.depth = bodyDepth(person, detections.people[person.detection], options_);
     observation.depth_area = person.area;
     if (keypoint_refiner_) {
       cropAroundPerson(frame.rgb, detections.people[person.detection].box, options_.keypoint_refiner.margin,

@@ -56,9 +56,10 @@ struct SlamOptions {
   bool human_depth_in_interval = true;
   // For a person detected with a mask and keypoints: d_m over their depths within this many metres
   // of the median depth under their confident keypoints (the filter's joint_min_count and
-  // joint_min_score), when at least human_joint_min_share of the depths d_m would use lie there.
-  // A mask that merged two people, or took the chair a person sits on, holds depths of both in one
-  // interval; the keypoints are one body's. 0 = off (the interval's depths).
+  // joint_min_score), when at least human_joint_min_share of the depths d_m would use lie there,
+  // and their body fit sees only those depths. A mask that merged two people holds depths of both
+  // in one interval; the keypoints are one body's. 0 = off (d_m over the interval's depths, the
+  // fit over all of D_h^t).
   double human_joint_band = 0.3;
   double human_joint_min_share = 0.2;
   // A person whose d_m rests on fewer depths than this fraction of the image's pixels gets no
