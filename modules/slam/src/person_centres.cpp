@@ -43,7 +43,7 @@ double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetec
 }
 
 cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection, const SlamOptions& options) {
-  long own_pixels = 0;
+  long own_pixels = 0;  // the share is counted as for the centre: over the depths in the interval
   personCentreDepth(person, &detection, options, &own_pixels);
   double min_depth = 0.0, max_depth = 0.0;
   if (!keypointDepthBand(person, detection, options, own_pixels, &min_depth, &max_depth)) return person.depth;

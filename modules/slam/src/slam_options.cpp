@@ -165,7 +165,7 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.number("humans.joint_band", &o.human_joint_band, 0.0, 5.0, "metres",
            "a masked person's d_m and body fit use only their depths this near the median depth under their confident keypoints (0 = off)");
   s.number("humans.joint_min_share", &o.human_joint_min_share, 0.0, 1.0, "fraction",
-           "... when at least this share of their depths lie there (else all of the interval's)");
+           "humans.joint_band applies when at least this share of the person's depths lie in it");
   s.number("humans.min_area", &o.human_min_area, 0.0, 1.0, "fraction", "no centre for a person covering less of the image");
   s.integer("humans.min_frames", &o.human_min_frames, 1, 100000, "frames",
             "a track seen in fewer frames is left out of humans.txt and humans.json (a false detection)");
