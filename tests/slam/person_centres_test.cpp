@@ -65,18 +65,26 @@ TEST(PersonCentreDepth, ABoxWithoutMaskUsesAllItsDepths) {
   EXPECT_NEAR(personCentreDepth(scene.person, nullptr, SlamOptions(), &pixels), 2.4, 1e-6);
 }
 
+// What the body fit of the scene's person sees, with the band their centre found.
+cv::Mat bodyDepthOf(const MergedMask& scene, const SlamOptions& options) {
+  long pixels = 0;
+  BodyDepthBand band;
+  personCentreDepth(scene.person, &scene.detection, options, &pixels, &band);
+  return bodyDepth(scene.person, band);
+}
+
 TEST(BodyDepth, KeepsOnlyTheDepthsOfTheBodyTheKeypointsLieOn) {
   const MergedMask scene(24);
-  const cv::Mat own = bodyDepth(scene.person, scene.detection, SlamOptions());
+  const cv::Mat own = bodyDepthOf(scene, SlamOptions());
   ASSERT_EQ(own.size(), scene.person.depth.size());
   EXPECT_EQ(cv::countNonZero(own == 3.0f), 16 * 80);
   EXPECT_EQ(cv::countNonZero(own), 16 * 80);  // the 2 m person in front is gone
   // No band (keypoints on a sliver; or off): the person's depth as the filter left it, shared.
   const MergedMask sliver(36);
-  EXPECT_EQ(bodyDepth(sliver.person, sliver.detection, SlamOptions()).data, sliver.person.depth.data);
+  EXPECT_EQ(bodyDepthOf(sliver, SlamOptions()).data, sliver.person.depth.data);
   SlamOptions off;
   off.human_joint_band = 0.0;
-  EXPECT_EQ(bodyDepth(scene.person, scene.detection, off).data, scene.person.depth.data);
+  EXPECT_EQ(bodyDepthOf(scene, off).data, scene.person.depth.data);
 }
 
 }  // namespace

@@ -8,21 +8,20 @@
 
 namespace pf2 {
 
-bool keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
-                       const SlamOptions& options, long own_pixels, double* min_depth, double* max_depth) {
-  if (detection.mask.empty() || !(options.human_joint_band > 0.0) || own_pixels == 0) return false;
+BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                                const SlamOptions& options, long own_pixels) {
+  if (detection.mask.empty() || !(options.human_joint_band > 0.0) || own_pixels == 0) return {};
   const double joints =
       medianDepthAtKeypoints(person.depth, person.area.tl(), detection.keypoints, options.filter.joint_min_score,
                              std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
-  if (joints <= 0.0) return false;
+  if (joints <= 0.0) return {};
+  const BodyDepthBand band{joints - options.human_joint_band, joints + options.human_joint_band};
   long near_pixels = 0;
-  meanDepth(person.depth, joints - options.human_joint_band, joints + options.human_joint_band, &near_pixels);
+  meanDepth(person.depth, band.min, band.max, &near_pixels);
   // Fewer: the keypoints lie on a sliver (those of a near person cut by the border may land on
   // the wall at the mask's edge).
-  if (near_pixels == 0 || near_pixels < options.human_joint_min_share * own_pixels) return false;
-  *min_depth = joints - options.human_joint_band;
-  *max_depth = joints + options.human_joint_band;
-  return true;
+  if (near_pixels == 0 || near_pixels < options.human_joint_min_share * own_pixels) return {};
+  return band;
 }
 
 // With human_depth_in_interval, a person whose detection came with a mask averages only the depths
@@ -30,49 +29,46 @@ bool keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetecti
 // its depth, so it brings in the edges of whoever stands in front or behind (without a mask the
 // filter has already kept only depths of the person's intervals).
 double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetection* detection,
-                         const SlamOptions& options, long* pixels) {
+                         const SlamOptions& options, long* pixels, BodyDepthBand* band_out) {
   const bool masked = detection && !detection->mask.empty();
   const bool use_interval = options.human_depth_in_interval && masked && person.interval.valid;
   const double margin = options.filter.human_margin;
   const double d_m = meanDepth(person.depth, use_interval ? person.interval.min - margin : 0.0,
                                use_interval ? person.interval.max + margin : std::numeric_limits<double>::infinity(),
                                pixels);
-  double min_depth = 0.0, max_depth = 0.0;
-  if (!detection || !keypointDepthBand(person, *detection, options, *pixels, &min_depth, &max_depth)) return d_m;
-  return meanDepth(person.depth, min_depth, max_depth);
+  const BodyDepthBand band = detection ? keypointDepthBand(person, *detection, options, *pixels) : BodyDepthBand();
+  if (band_out) *band_out = band;
+  return band.empty() ? d_m : meanDepth(person.depth, band.min, band.max);
 }
 
-cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection, const SlamOptions& options) {
-  long own_pixels = 0;  // the share is counted as for the centre: over the depths in the interval
-  personCentreDepth(person, &detection, options, &own_pixels);
-  double min_depth = 0.0, max_depth = 0.0;
-  if (!keypointDepthBand(person, detection, options, own_pixels, &min_depth, &max_depth)) return person.depth;
+cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band) {
+  if (band.empty()) return person.depth;
   // A person in front whose depths entered the mask would draw the fit's depth terms (and the
   // surface alignment) onto their surface.
   cv::Mat own = cv::Mat::zeros(person.depth.size(), CV_32F);
-  person.depth.copyTo(own, (person.depth > min_depth) & (person.depth < max_depth));
+  person.depth.copyTo(own, (person.depth > band.min) & (person.depth < band.max));
   return own;
 }
 
 // Box centre at d_m (eq. 2). People whose depths cover less than human_min_area of the image get no
 // centre: a sliver of a person gives a box centre far from the body.
-std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
-                                           const CameraIntrinsics& K, const SlamOptions& options,
-                                           std::vector<size_t>* person_of_centre) {
+std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
+                                        const CameraIntrinsics& K, const SlamOptions& options) {
   const double min_pixels = options.human_min_area * filtered.static_depth.total();
-  std::vector<Eigen::Vector3d> centres_c;
+  std::vector<PersonCentre> centres;
   for (size_t index = 0; index < filtered.people.size(); ++index) {
     const DualBBoxFilter::Person& person = filtered.people[index];
     const bool detected = person.detection >= 0 && person.detection < static_cast<int>(detections.people.size());
-    long pixels = 0;
     const PersonDetection* detection = detected ? &detections.people[person.detection] : nullptr;
-    const double d_m = personCentreDepth(person, detection, options, &pixels);
+    PersonCentre centre;
+    centre.person = index;
+    long pixels = 0;
+    const double d_m = personCentreDepth(person, detection, options, &pixels, &centre.band);
     if (pixels == 0 || pixels < min_pixels) continue;
-    centres_c.push_back(humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr,
-                                            person.box.y_lr, d_m, K));
-    person_of_centre->push_back(index);
+    centre.p_c = humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr, person.box.y_lr, d_m, K);
+    centres.push_back(centre);
   }
-  return centres_c;
+  return centres;
 }
 
 }  // namespace pf2

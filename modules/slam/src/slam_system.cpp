@@ -324,26 +324,23 @@ class SlamSystem::Pipeline {
                                                const DualBBoxFilter::Result& filtered, const TrackResult& result,
                                                FrameRecord* record) {
     ScopedStageTimer timer(stats_, "humans");
-    std::vector<size_t> person_of_centre;
-    const std::vector<Eigen::Vector3d> people_c =
-        personCentres(filtered, detections, frame.intrinsics, options_, &person_of_centre);
+    const std::vector<PersonCentre> centres = personCentres(filtered, detections, frame.intrinsics, options_);
     std::vector<Eigen::Vector3d> people_w;
     std::vector<PersonAppearance> appearances;
     if (record->has_pose) {
-      for (size_t k = 0; k < people_c.size(); ++k) {
-        people_w.push_back(humanCentreInWorld(result.T_w_c, people_c[k]));
-        const DualBBoxFilter::Person& person = filtered.people[person_of_centre[k]];
+      for (const PersonCentre& centre : centres) {
+        people_w.push_back(humanCentreInWorld(result.T_w_c, centre.p_c));
+        const DualBBoxFilter::Person& person = filtered.people[centre.person];
         appearances.push_back(personAppearance(frame.rgb, person.area, person.mask));
       }
     }
     const std::vector<int> ids = humans_.update(frame.timestamp, people_w, appearances);
     std::vector<FrameResult::Person> people;
     for (size_t k = 0; k < ids.size(); ++k) {
-      record->people_c.emplace_back(ids[k], people_c[k]);
-      people.push_back({ids[k], people_c[k], record->has_pose ? people_w[k] : people_c[k]});
-      if (body_fitter_ && record->has_pose) {
-        offerBody(frame, detections, filtered.people[person_of_centre[k]], ids[k], result);
-      }
+      const Eigen::Vector3d& p_c = centres[k].p_c;
+      record->people_c.emplace_back(ids[k], p_c);
+      people.push_back({ids[k], p_c, record->has_pose ? people_w[k] : p_c});
+      if (body_fitter_ && record->has_pose) offerBody(frame, detections, filtered, centres[k], ids[k], result);
     }
     return people;
   }
@@ -365,8 +362,9 @@ class SlamSystem::Pipeline {
   }
 
   // One person's keypoints and depth to the body thread, when their track is due for a fit.
-  void offerBody(const Frame& frame, const Detections& detections, const DualBBoxFilter::Person& person, int id,
-                 const TrackResult& result) {
+  void offerBody(const Frame& frame, const Detections& detections, const DualBBoxFilter::Result& filtered,
+                 const PersonCentre& centre, int id, const TrackResult& result) {
+    const DualBBoxFilter::Person& person = filtered.people[centre.person];
     const int frame_index = summary_.frames;
     if (person.detection < 0 || person.detection >= static_cast<int>(detections.people.size())) return;
     BodyObservation observation;
@@ -378,7 +376,7 @@ class SlamSystem::Pipeline {
     observation.frame_index = frame_index;
     observation.timestamp = frame.timestamp;
     // Shared, not copied, where it is person.depth: the filter's result is not changed after.
-    observation.depth = bodyDepth(person, detections.people[person.detection], options_);
+    observation.depth = bodyDepth(person, centre.band);
     observation.depth_area = person.area;
     if (keypoint_refiner_) {
       cropAroundPerson(frame.rgb, detections.people[person.detection].box, options_.keypoint_refiner.margin,

@@ -15,29 +15,41 @@
 
 namespace pf2 {
 
-// The depth band of the body a masked person's keypoints lie on: the median depth under their
-// confident keypoints (filter.joint_min_score, at least filter.joint_min_count) ± human_joint_band,
-// when at least human_joint_min_share of `own_pixels` (their depths in the interval) lie in it.
-// False (no band) without a mask, keypoints or enough depths near them, or with human_joint_band 0.
-// Thread safe.
-bool keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
-                       const SlamOptions& options, long own_pixels, double* min_depth, double* max_depth);
+// The depths (metres, min < max) of the body a masked person's keypoints lie on; empty (0, 0)
+// where there is no such band.
+struct BodyDepthBand {
+  double min = 0.0, max = 0.0;
+  bool empty() const { return !(max > min); }
+};
+
+// The band of one person: the median depth under their confident keypoints
+// (filter.joint_min_score, at least filter.joint_min_count) ± human_joint_band, when at least
+// human_joint_min_share of `own_pixels` (their depths in the interval) lie in it. Empty without a
+// mask, keypoints or enough depths near them, or with human_joint_band 0. Thread safe.
+BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                                const SlamOptions& options, long own_pixels);
 
 // d_m (metres) of one person (detection: theirs, or null): the mean of their depths inside their
 // interval widened by filter.human_margin (with human_depth_in_interval and a mask), or inside
-// keypointDepthBand where there is one; 0 when they have no depth. *pixels gets the number of the
-// person's depths in their interval. Thread safe.
+// their keypointDepthBand where it is not empty; 0 when they have no depth. *pixels gets the number
+// of the person's depths in their interval; *band (optional) their band. Thread safe.
 double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetection* detection,
-                         const SlamOptions& options, long* pixels);
+                         const SlamOptions& options, long* pixels, BodyDepthBand* band = nullptr);
 
-// What the body fit sees of the person: person.depth with only the depths inside
-// keypointDepthBand, or person.depth itself (shared) where there is no band. Thread safe.
-cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection, const SlamOptions& options);
+// What the body fit sees of the person: person.depth with only the depths inside `band`, or
+// person.depth itself (shared) when the band is empty. Thread safe.
+cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band);
 
-// Eq. 2 for each of filtered.people with at least human_min_area of the image's pixels in depth;
-// *person_of_centre gets the index into filtered.people of each centre. Thread safe.
-std::vector<Eigen::Vector3d> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
-                                           const CameraIntrinsics& K, const SlamOptions& options,
-                                           std::vector<size_t>* person_of_centre);
+// One person the filter separated, placed by eq. 2.
+struct PersonCentre {
+  size_t person = 0;      // index into the filter's people
+  Eigen::Vector3d p_c;    // camera frame, metres
+  BodyDepthBand band;     // of personCentreDepth, for the body fit
+};
+
+// Eq. 2 for each of filtered.people with at least human_min_area of the image's pixels in depth.
+// Thread safe.
+std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
+                                        const CameraIntrinsics& K, const SlamOptions& options);
 
 }  // namespace pf2
