@@ -15,9 +15,9 @@ BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const Pers
       medianDepthAtKeypoints(person.depth, person.area.tl(), detection.keypoints, options.filter.joint_min_score,
                              std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
   if (joints <= 0.0) return {};
-  const BodyDepthBand band{joints - options.human_joint_band, joints + options.human_joint_band};
+  BodyDepthBand band{joints - options.human_joint_band, joints + options.human_joint_band};
   long near_pixels = 0;
-  meanDepth(person.depth, band.min, band.max, &near_pixels);
+  band.mean = meanDepth(person.depth, band.min, band.max, &near_pixels);
   // Fewer: the keypoints lie on a sliver (those of a near person cut by the border may land on
   // the wall at the mask's edge).
   if (near_pixels == 0 || near_pixels < options.human_joint_min_share * own_pixels) return {};
@@ -38,7 +38,7 @@ double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetec
                                pixels);
   const BodyDepthBand band = detection ? keypointDepthBand(person, *detection, options, *pixels) : BodyDepthBand();
   if (band_out) *band_out = band;
-  return band.empty() ? d_m : meanDepth(person.depth, band.min, band.max);
+  return band.empty() ? d_m : band.mean;
 }
 
 cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band) {

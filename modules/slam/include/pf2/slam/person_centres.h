@@ -19,6 +19,7 @@ namespace pf2 {
 // where there is no such band.
 struct BodyDepthBand {
   double min = 0.0, max = 0.0;
+  double mean = 0.0;  // of the person's depths inside (min, max)
   bool empty() const { return !(max > min); }
 };
 
