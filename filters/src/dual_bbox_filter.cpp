@@ -452,6 +452,38 @@ void keepOutsideMasks(cv::Mat pixels, const std::vector<FilterBox>& boxes, cv::M
   state.setTo(kKept, pixels);
 }
 
+// The known static depth under each person's dilated mask that lies more than `margin` behind
+// their interval and that an earlier rule removed (CV_8U, 255); empty when there is none.
+cv::Mat staticBehindMasks(const cv::Mat& depth, const cv::Mat& known, const std::vector<FilterBox>& boxes,
+                          const std::vector<DepthInterval>& intervals, float margin, const cv::Mat& state) {
+  cv::Mat behind;
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    const FilterBox& b = boxes[t];
+    if (b.mask.empty() || !intervals[t].valid) continue;
+    if (behind.empty()) behind = cv::Mat::zeros(depth.size(), CV_8U);
+    const float far = static_cast<float>(intervals[t].max) + margin;
+    const cv::Rect& a = b.mask_area;
+    for (int v = 0; v < a.height; ++v) {
+      const float* d = depth.ptr<float>(v + a.y) + a.x;
+      const uint8_t* k = known.ptr<uint8_t>(v + a.y) + a.x;
+      const uint8_t* s = state.ptr<uint8_t>(v + a.y) + a.x;
+      const uint8_t* m = b.mask.ptr<uint8_t>(v);
+      uint8_t* out = behind.ptr<uint8_t>(v + a.y) + a.x;
+      for (int u = 0; u < a.width; ++u) {
+        if (m[u] && k[u] && s[u] != kKept && d[u] > far) out[u] = 255;
+      }
+    }
+  }
+  return behind;
+}
+
+// D_b keeps the depth at `pixels` (CV_8U, 255), which are reported as kept under the masks.
+void keepUnderMasks(const cv::Mat& depth, const cv::Mat& pixels, DualBBoxFilter::Result* result) {
+  depth.copyTo(result->static_depth, pixels);
+  result->removed.setTo(0, pixels);
+  result->kept_under_masks = pixels;
+}
+
 // The people's depth the gate compares with: each raw backend mask's pixels whose depth lies in
 // the person's interval (the mask's blurred edges can take in the wall behind a person).
 cv::Mat personCore(const cv::Mat& depth, const std::vector<FilterBox>& boxes, const Detections& detections,
@@ -605,10 +637,16 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   }
   const cv::Mat dynamic =
       o.geometric ? geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation) : cv::Mat();
-  if (!dynamic.empty()) keepOutsideMasks(geometric_.knownStatic(depth, dynamic), boxes, state_);
+  const cv::Mat known = dynamic.empty() ? cv::Mat() : geometric_.knownStatic(depth, dynamic);
+  const cv::Mat behind = o.keep_static_behind_masks && !known.empty()
+                             ? staticBehindMasks(depth, known, boxes, intervals, human_margin, state_)
+                             : cv::Mat();
+  if (!known.empty()) keepOutsideMasks(known, boxes, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);
+  // After the people and the temporal guard: they still see these pixels as the person's.
+  if (!behind.empty()) keepUnderMasks(depth, behind, &result);
   return result;
 }
 

@@ -59,6 +59,9 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
              "a confirmed candidate stays one without fresh evidence while it follows a confirmed region or person");
   s->boolean("filter.keep_static", &f->geometric_addition.keep_static,
              "depth the prediction knows as static is kept unless a mask or dynamic evidence covers it");
+  s->boolean("filter.keep_behind_masks", &f->keep_static_behind_masks,
+             "with keep_static, known static depth under a person's mask and behind their depth is kept for the map "
+             "(pf2_slam's tracker leaves it out)");
 }
 
 }  // namespace

@@ -558,6 +558,46 @@ TEST(DualBBoxFilter, KeepStaticGivesBackWhatOnlyTheRulesRemoved) {
   EXPECT_EQ(keeping.filter(scene.depth, detections({p})).static_depth.at<float>(27, 20), 0.f);
 }
 
+// keep_static_behind_masks: the known static depth under a person's mask that lies behind their
+// interval by more than human_margin (the wall the mask's edge spills over) is kept and reported;
+// the person's own depth under the mask stays removed, known static or not.
+TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheWallUnderTheMaskAndReportsIt) {
+  const Scene scene;
+  PersonDetection p = person(14, 9, 26, 26);
+  p.mask = cv::Mat::zeros(30, 40, CV_8U);
+  p.mask(cv::Rect(15, 10, 10, 15)).setTo(255);  // holds the 1.9 m pixel at row 20, col 16 too
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(scene.depth.clone());
+  evidence->setStaticMargin(0.05);
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.mask_dilation = 0;
+  o.geometric = true;
+  o.geometric_addition.keep_static = true;
+  auto run = [&](bool keep_behind) {
+    o.keep_static_behind_masks = keep_behind;
+    DualBBoxFilter filter(o);
+    filter.setDynamicEvidence(evidence);
+    return filter.filter(scene.depth, detections({p}));
+  };
+  const auto off = run(false);
+  EXPECT_EQ(off.static_depth.at<float>(20, 16), 0.f);  // under the mask: removed
+  EXPECT_TRUE(off.kept_under_masks.empty());
+  const auto on = run(true);
+  EXPECT_EQ(on.static_depth.at<float>(20, 16), 1.9f);
+  EXPECT_EQ(on.removed.at<uint8_t>(20, 16), 0);
+  ASSERT_FALSE(on.kept_under_masks.empty());
+  EXPECT_EQ(cv::countNonZero(on.kept_under_masks), 1);
+  EXPECT_EQ(on.kept_under_masks.at<uint8_t>(20, 16), 255);
+  EXPECT_EQ(cv::countNonZero(on.static_depth(cv::Rect(15, 10, 10, 15))), 1);  // the person stays removed
+  EXPECT_EQ(on.people.size(), off.people.size());
+  // Not known static (no prediction there): the mask stands.
+  cv::Mat partial = scene.depth.clone();
+  partial.at<float>(20, 16) = 0.f;
+  evidence->setPrediction(partial);
+  EXPECT_EQ(run(true).static_depth.at<float>(20, 16), 0.f);
+}
+
 // The temporal addition moves pixels with the camera's intrinsics: none given, or of another
 // size than the depth, is an error, not a silent default camera.
 TEST(DualBBoxFilter, TemporalAdditionNeedsTheFramesIntrinsics) {

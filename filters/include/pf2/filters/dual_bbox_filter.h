@@ -142,6 +142,11 @@ class DualBBoxFilter {
     TemporalGuard::Options temporal_guard;
     bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
     GeometricAddition::Options geometric_addition;  // candidates and static evidence (with geometric)
+    // With keep_static: depth under a person's dilated mask that the evidence knows as static and
+    // that lies more than human_margin behind the person's interval (the wall the segmenter's
+    // blurred edge, or a real person's hair, spills over) is kept in D_b too, and reported in
+    // Result::kept_under_masks for callers whose colour term should leave it out.
+    bool keep_static_behind_masks = false;
   };
 
   struct Person {
@@ -159,6 +164,9 @@ class DualBBoxFilter {
   struct Result {
     cv::Mat static_depth;      // D_b, CV_32F metres, 0 where removed or no measurement
     cv::Mat removed;           // CV_8U, 255 where a measured depth was removed from D_b
+    // CV_8U, 255 where D_b keeps depth under a person's mask (Options::keep_static_behind_masks):
+    // right as depth, but the image's colour there is still partly the person's; empty when none.
+    cv::Mat kept_under_masks;
     std::vector<Person> people;
     DepthInterval background;  // (b_min, b_max)
   };
