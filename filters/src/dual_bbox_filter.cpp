@@ -452,6 +452,47 @@ void keepOutsideMasks(cv::Mat pixels, const std::vector<FilterBox>& boxes, cv::M
   state.setTo(kKept, pixels);
 }
 
+// The COCO keypoint pairs joined by a limb (and the nose to each shoulder).
+const int kLimbs[][2] = {{5, 6}, {5, 7}, {7, 9}, {6, 8}, {8, 10}, {5, 11}, {6, 12}, {11, 12},
+                         {11, 13}, {13, 15}, {12, 14}, {14, 16}, {0, 5}, {0, 6}};
+// A limb's width as a share of the person's box height (a forearm or shin of a standing person is
+// about a tenth of their height).
+constexpr double kLimbWidthShare = 0.1;
+
+// `pixels` (known static) without the people the segmenter missed but the pose network found (no
+// mask, at least joint_min_count keypoints scored joint_min_score): on their skeleton, limbs drawn
+// kLimbWidthShare of the box's height wide and the torso filled, the pixels their box rule
+// labelled stay removed. A person seated since the first keyframe is "static" to the prediction,
+// and without this the static evidence gave them back to the map (pf2_synth rpy, a seated person
+// in dark clothes in frames 48-57: 27 -> 92 % of them removed; docs/BENCHMARKS.md).
+cv::Mat withoutPosedPeople(cv::Mat pixels, const std::vector<FilterBox>& boxes, const Detections& detections,
+                           const DualBBoxFilter::Options& o, const cv::Mat& state) {
+  if (pixels.empty()) return pixels;
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    const FilterBox& b = boxes[t];
+    const std::vector<Keypoint2d>& k = detections.people[b.detection].keypoints;
+    if (!b.mask.empty() || k.size() < 17) continue;
+    int confident = 0;
+    for (const Keypoint2d& p : k) confident += p.score >= o.joint_min_score;
+    if (confident < std::max(1, o.joint_min_count)) continue;
+    cv::Mat skeleton = cv::Mat::zeros(pixels.size(), CV_8U);
+    const int thickness = std::max(3, static_cast<int>(kLimbWidthShare * b.rect.height));
+    auto seen = [&](int i) { return k[i].score >= o.joint_min_score; };
+    auto at = [&](int i) { return cv::Point(cvRound(k[i].u), cvRound(k[i].v)); };
+    for (const auto& limb : kLimbs) {
+      if (seen(limb[0]) && seen(limb[1])) cv::line(skeleton, at(limb[0]), at(limb[1]), 255, thickness);
+    }
+    if (seen(5) && seen(6) && seen(11) && seen(12)) {
+      const std::vector<cv::Point> torso{at(5), at(6), at(12), at(11)};
+      cv::fillConvexPoly(skeleton, torso, 255);
+    }
+    const uint8_t label = static_cast<uint8_t>(t + 1);
+    cv::Mat mine = (state(b.rect) == label) & skeleton(b.rect);
+    pixels(b.rect).setTo(0, mine);
+  }
+  return pixels;
+}
+
 // The known static depth under each person's dilated mask that lies more than `margin` behind
 // their interval and that an earlier rule removed (CV_8U, 255); empty when there is none.
 cv::Mat staticBehindMasks(const cv::Mat& depth, const cv::Mat& known, const std::vector<FilterBox>& boxes,
@@ -641,7 +682,7 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   const cv::Mat behind = o.keep_static_behind_masks && !known.empty()
                              ? staticBehindMasks(depth, known, boxes, intervals, human_margin, state_)
                              : cv::Mat();
-  if (!known.empty()) keepOutsideMasks(known, boxes, state_);
+  if (!known.empty()) keepOutsideMasks(withoutPosedPeople(known, boxes, detections, o, state_), boxes, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);

@@ -598,6 +598,46 @@ TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheWallUnderTheMaskAndReportsIt) 
   EXPECT_EQ(run(true).static_depth.at<float>(20, 16), 0.f);
 }
 
+// keep_static and a person the pose network found without a mask: what their box rule labelled on
+// their skeleton stays removed even where the prediction knows it as static (a person in view
+// since the first keyframe); the rest of the box is given back as for any box.
+TEST(DualBBoxFilter, KeepStaticLeavesAPosedPersonsSkeletonRemoved) {
+  const Scene scene;
+  PersonDetection p = person(14, 9, 26, 26);  // no mask
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(scene.depth.clone());
+  evidence->setStaticMargin(0.05);
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.geometric = true;
+  o.geometric_addition.keep_static = true;
+  auto run = [&](const PersonDetection& detection) {
+    DualBBoxFilter filter(o);
+    filter.setDynamicEvidence(evidence);
+    return filter.filter(scene.depth, detections({detection}));
+  };
+  const cv::Rect body(15, 10, 10, 15);
+  EXPECT_EQ(cv::countNonZero(run(p).static_depth(body)), 149);  // no pose: all given back (one pixel has no depth)
+  // COCO-17: nose, shoulders, hips, knees and ankles on the body (eyes, ears, arms unseen).
+  p.keypoints.assign(17, Keypoint2d{0, 0, 0});
+  const std::vector<std::pair<int, cv::Point>> seen = {{0, {19, 10}},  {5, {16, 12}},  {6, {23, 12}},
+                                                       {11, {16, 19}}, {12, {23, 19}}, {13, {16, 22}},
+                                                       {14, {23, 22}}, {15, {16, 24}}, {16, {23, 24}}};
+  for (const auto& [index, at] : seen) p.keypoints[index] = Keypoint2d{float(at.x), float(at.y), 0.9f};
+  const auto posed = run(p);
+  EXPECT_EQ(posed.static_depth.at<float>(15, 19), 0.f);  // the torso
+  EXPECT_EQ(posed.static_depth.at<float>(23, 16), 0.f);  // a shin
+  EXPECT_EQ(posed.static_depth.at<float>(23, 20), 1.52f);  // between the legs, off the skeleton
+  EXPECT_EQ(posed.static_depth.at<float>(27, 20), 2.5f);   // the ring's outlier, known static
+  const int kept = cv::countNonZero(posed.static_depth(body));
+  EXPECT_GT(kept, 0);
+  EXPECT_LT(kept, 75);  // most of the body is on the skeleton
+  // Too few confident keypoints (under joint_min_count): no pose, all given back.
+  for (Keypoint2d& k : p.keypoints) k.score = 0.1f;
+  p.keypoints[5].score = p.keypoints[6].score = 0.9f;
+  EXPECT_EQ(cv::countNonZero(run(p).static_depth(body)), 149);
+}
+
 // The temporal addition moves pixels with the camera's intrinsics: none given, or of another
 // size than the depth, is an error, not a silent default camera.
 TEST(DualBBoxFilter, TemporalAdditionNeedsTheFramesIntrinsics) {
