@@ -22,7 +22,10 @@
 //               frames without a box supporting it;
 //   geometric — (class GeometricAddition) a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
 //               dynamic wherever it has an opinion; a detector's candidate region with enough of
-//               that evidence is removed whole (candidate_min_dynamic).
+//               that evidence is removed whole (candidate_min_dynamic). With keep_static, depth
+//               the evidence knows as static is given back where only the box, ring or temporal
+//               rule took it, except on a mask and on the skeleton of a person posed without one;
+//               with keep_static_behind_masks also on a mask where it lies behind the person.
 #include <memory>
 #include <optional>
 #include <vector>
