@@ -56,6 +56,23 @@ TEST(PersonCentreDepth, KeypointsOnASliverBehindTheMaskKeepTheIntervalsMean) {
   EXPECT_NEAR(centreDepth(scene, options), 0.9 * 2.0 + 0.1 * 3.0, 1e-6);
 }
 
+// A pose whose keypoints lie off the person's own depth (the person behind them, outside their
+// interval) is not theirs to fit.
+TEST(KeypointShareOnPerson, CountsTheConfidentKeypointsOnThePersonsDepth) {
+  MergedMask scene(24);
+  EXPECT_DOUBLE_EQ(keypointShareOnPerson(scene.person, scene.detection, 0.3), 1.0);
+  scene.person.depth.colRange(24, 40).setTo(0.f);  // the 3 m part outside this person's interval
+  EXPECT_DOUBLE_EQ(keypointShareOnPerson(scene.person, scene.detection, 0.3), 0.0);
+  scene.detection.keypoints[0].u = 110.f;  // one keypoint on the near part
+  EXPECT_NEAR(keypointShareOnPerson(scene.person, scene.detection, 0.3), 1.0 / 6, 1e-12);
+  scene.detection.keypoints[1].u = 125.f;  // 2 px beyond the near part's edge (column 123): on it
+  EXPECT_NEAR(keypointShareOnPerson(scene.person, scene.detection, 0.3), 2.0 / 6, 1e-12);
+  for (Keypoint2d& k : scene.detection.keypoints) k.score = 0.1f;  // none confident
+  EXPECT_DOUBLE_EQ(keypointShareOnPerson(scene.person, scene.detection, 0.3), 1.0);
+  scene.detection.keypoints[2] = {-50.f, -50.f, 0.9f};  // outside the image: not on the person
+  EXPECT_DOUBLE_EQ(keypointShareOnPerson(scene.person, scene.detection, 0.3), 0.0);
+}
+
 TEST(PersonCentreDepth, ABoxWithoutMaskUsesAllItsDepths) {
   const MergedMask scene(24);
   PersonDetection box_only = scene.detection;

@@ -41,6 +41,20 @@ double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetec
   return band.empty() ? d_m : band.mean;
 }
 
+double keypointShareOnPerson(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                             double min_score) {
+  int confident = 0, on = 0;
+  const cv::Rect own(0, 0, person.depth.cols, person.depth.rows);
+  for (const Keypoint2d& k : detection.keypoints) {
+    if (!(k.score >= min_score)) continue;
+    ++confident;
+    const cv::Rect near =
+        cv::Rect(cvRound(k.u) - 2 - person.area.x, cvRound(k.v) - 2 - person.area.y, 5, 5) & own;
+    if (!near.empty() && cv::countNonZero(person.depth(near) > 0.f) > 0) ++on;
+  }
+  return confident == 0 ? 1.0 : static_cast<double>(on) / confident;
+}
+
 cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band) {
   if (band.empty()) return person.depth;
   // A person in front whose depths entered the mask would draw the fit's depth terms (and the

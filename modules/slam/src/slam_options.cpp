@@ -198,6 +198,8 @@ void bodySettings(SlamOptions& o, Settings& s) {
   BodyTrackFitter::Options& b = o.bodies;
   s.boolean("bodies.fit", &o.fit_bodies, "fit each tracked person's body (needs keypoints); as --no-bodies when false");
   s.integer("bodies.fit_every", &b.fit_every, 1, 300, "frames", "frames between two fits of one person");
+  s.number("bodies.min_keypoints_on_person", &o.body_min_keypoints_on_person, 0.0, 1.0, "",
+           "share of a person's confident keypoints that must lie on their own depth for a fit (0 = always fit)");
   s.integer("bodies.queue", &b.queue_capacity, 1, 1000, "fits", "fits waiting for the body thread; more are skipped");
   s.integer("bodies.shape_fits", &b.shape_fits, 1, 1000, "fits", "fits of a person with a free shape, then it is held");
   s.number("bodies.warm_start_gap", &b.warm_start_gap, 0.0, 10.0, "seconds", "an older fit is not a warm start");

@@ -380,6 +380,10 @@ class SlamSystem::Pipeline {
         !bodyKeypoints(detections.people[person.detection], &observation.keypoints)) {
       return;
     }
+    if (keypointShareOnPerson(person, detections.people[person.detection], options_.filter.joint_min_score) <
+        options_.body_min_keypoints_on_person) {
+      return;  // the pose is someone else's (SlamOptions::body_min_keypoints_on_person)
+    }
     observation.track_id = id;
     observation.frame_index = frame_index;
     observation.timestamp = frame.timestamp;

@@ -37,6 +37,12 @@ BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const Pers
 double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetection* detection,
                          const SlamOptions& options, long* pixels, BodyDepthBand* band = nullptr);
 
+// The share of the person's keypoints scored at least min_score that lie on their depth D_h^t
+// (within 2 px: the mask's edge); 1 when none scores that. A low share: the pose is someone else's
+// (a merged mask whose one pose is the person behind the near one). Thread safe.
+double keypointShareOnPerson(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                             double min_score);
+
 // What the body fit sees of the person: person.depth with only the depths inside `band`, or
 // person.depth itself (shared) when the band is empty. Thread safe.
 cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band);

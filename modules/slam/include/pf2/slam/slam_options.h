@@ -75,6 +75,11 @@ struct SlamOptions {
   // humans.txt then follow the fitted pelvis. Needs a detector with keypoints (learned, movenet);
   // without keypoints every body is a standing one at the eq. 2 centre.
   bool fit_bodies = true;
+  // A person whose confident keypoints (filter.joint_min_score) lie on their own depth D_h^t less
+  // often than this share gets no body fit that frame: the pose is another person's (a merged
+  // mask whose one pose is the person behind), and a fit of it at this person's depth lands
+  // between the two. In [0, 1], 0 = every person is fitted.
+  double body_min_keypoints_on_person = 0.5;
   BodyTrackFitter::Options bodies;
   // Before each fit, MoveNet looks again at a crop around the person (PoseRefiner): the
   // whole-frame pass sees a person 3-4 m away at 40-60 network pixels. Only with the detectors
