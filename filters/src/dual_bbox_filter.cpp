@@ -452,7 +452,8 @@ void keepOutsideMasks(cv::Mat pixels, const std::vector<FilterBox>& boxes, cv::M
   state.setTo(kKept, pixels);
 }
 
-// The COCO keypoint pairs joined by a limb (and the nose to each shoulder).
+// The COCO-17 keypoints, and the pairs of them joined by a limb (and the nose to each shoulder).
+constexpr int kCocoKeypoints = 17;
 const int kLimbs[][2] = {{5, 6}, {5, 7}, {7, 9}, {6, 8}, {8, 10}, {5, 11}, {6, 12}, {11, 12},
                          {11, 13}, {13, 15}, {12, 14}, {14, 16}, {0, 5}, {0, 6}};
 // A limb's width as a share of the person's box height (a forearm or shin of a standing person is
@@ -471,14 +472,15 @@ cv::Mat withoutPosedPeople(cv::Mat pixels, const std::vector<FilterBox>& boxes, 
   for (size_t t = 0; t < boxes.size(); ++t) {
     const FilterBox& b = boxes[t];
     const std::vector<Keypoint2d>& k = detections.people[b.detection].keypoints;
-    if (!b.mask.empty() || k.size() < 17) continue;
+    if (!b.mask.empty() || k.size() < static_cast<size_t>(kCocoKeypoints)) continue;
     int confident = 0;
     for (const Keypoint2d& p : k) confident += p.score >= o.joint_min_score;
     if (confident < std::max(1, o.joint_min_count)) continue;
-    cv::Mat skeleton = cv::Mat::zeros(pixels.size(), CV_8U);
+    // Drawn on the box alone (lines leaving it are clipped): only the box's labels are read.
+    cv::Mat skeleton = cv::Mat::zeros(b.rect.size(), CV_8U);
     const int thickness = std::max(3, static_cast<int>(kLimbWidthShare * b.rect.height));
     auto seen = [&](int i) { return k[i].score >= o.joint_min_score; };
-    auto at = [&](int i) { return cv::Point(cvRound(k[i].u), cvRound(k[i].v)); };
+    auto at = [&](int i) { return cv::Point(cvRound(k[i].u) - b.rect.x, cvRound(k[i].v) - b.rect.y); };
     for (const auto& limb : kLimbs) {
       if (seen(limb[0]) && seen(limb[1])) cv::line(skeleton, at(limb[0]), at(limb[1]), 255, thickness);
     }
@@ -487,7 +489,7 @@ cv::Mat withoutPosedPeople(cv::Mat pixels, const std::vector<FilterBox>& boxes, 
       cv::fillConvexPoly(skeleton, torso, 255);
     }
     const uint8_t label = static_cast<uint8_t>(t + 1);
-    cv::Mat mine = (state(b.rect) == label) & skeleton(b.rect);
+    cv::Mat mine = (state(b.rect) == label) & skeleton;
     pixels(b.rect).setTo(0, mine);
   }
   return pixels;
