@@ -266,11 +266,48 @@ cv::Mat PredictedDepthEvidence::dynamicMask(const cv::Mat& depth) {
   return mask;
 }
 
+namespace {
+
+// 255 where the point of a depth pixel lies within margin (plus 1 % of its depth) of plane_c. A
+// pixel's point is z r with the ray r = ((u - cx) / fx, (v - cy) / fy, 1), so its signed distance
+// z (n . r) + offset is linear in u along a row.
+cv::Mat nearPlane(const cv::Mat& depth, const Eigen::Hyperplane<double, 3>& plane_c, const CameraIntrinsics& k,
+                  double margin) {
+  if (k.width != depth.cols || k.height != depth.rows) {
+    throw Error("PredictedDepthEvidence: the static plane's intrinsics are not of the depth's size");
+  }
+  const Eigen::Vector3d& n = plane_c.normal();
+  const float offset = static_cast<float>(plane_c.offset());
+  const float along_u = static_cast<float>(n.x() / k.fx);
+  const float tolerance = static_cast<float>(margin);
+  cv::Mat mask(depth.size(), CV_8U);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float at_u0 = static_cast<float>(-n.x() * k.cx / k.fx + n.y() * (v - k.cy) / k.fy + n.z());
+    const float* d = depth.ptr<float>(v);
+    uint8_t* m = mask.ptr<uint8_t>(v);
+    for (int u = 0, u_end = depth.cols; u < u_end; ++u) {
+      const float distance = d[u] * (at_u0 + along_u * static_cast<float>(u)) + offset;
+      m[u] = static_cast<uint8_t>(-static_cast<int>((d[u] > 0.f) & (std::fabs(distance) < tolerance + 0.01f * d[u])));
+    }
+  }
+  return mask;
+}
+
+}  // namespace
+
 cv::Mat PredictedDepthEvidence::staticMask(const cv::Mat& depth) {
-  if (prediction_.empty() || !(static_margin_ > 0.0)) return cv::Mat();
-  const float margin = static_cast<float>(static_margin_);
-  return compareWithPrediction(depth, prediction_,
-                               [margin](float d, float p) { return std::fabs(d - p) < margin + 0.01f * d; });
+  cv::Mat known;
+  if (!prediction_.empty() && static_margin_ > 0.0) {
+    const float margin = static_cast<float>(static_margin_);
+    known = compareWithPrediction(depth, prediction_,
+                                  [margin](float d, float p) { return std::fabs(d - p) < margin + 0.01f * d; });
+  }
+  if (plane_c_ && plane_margin_ > 0.0) {
+    const cv::Mat on_plane = nearPlane(depth, *plane_c_, plane_intrinsics_, plane_margin_);
+    if (known.empty()) known = on_plane;
+    else known |= on_plane;
+  }
+  return known;
 }
 
 cv::Mat DualBBoxFilter::Person::fullDepth(const cv::Size& image) const {

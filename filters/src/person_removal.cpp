@@ -11,6 +11,7 @@ PersonRemoval::PersonRemoval(const Options& options, std::unique_ptr<HumanDetect
       evidence_(std::make_shared<PredictedDepthEvidence>(options.geometric_margin, options.geometric_opening)) {
   if (!detector_) throw Error("PersonRemoval: a detector is required");
   evidence_->setStaticMargin(options.static_margin);
+  evidence_->setPlaneMargin(options.floor_margin);
   filter_.setDynamicEvidence(evidence_);
 }
 
@@ -26,10 +27,14 @@ Detections PersonRemoval::detect(const Frame& frame, StageStats* stats) {
 
 DualBBoxFilter::Result PersonRemoval::filter(const Frame& frame, const Detections& detections,
                                              const Eigen::Isometry3d& T_cur_prev, const cv::Mat& prediction,
-                                             StageStats* stats) {
+                                             StageStats* stats,
+                                             const std::optional<Eigen::Hyperplane<double, 3>>& floor_c) {
   ScopedStageTimer timer(stats, "filter");
   filter_.setIntrinsics(frame.intrinsics);
-  if (options_.filter.geometric) evidence_->setPrediction(prediction);
+  if (options_.filter.geometric) {
+    evidence_->setPrediction(prediction);
+    evidence_->setStaticPlane(floor_c, frame.intrinsics);
+  }
   return filter_.filter(frame.depth, detections, T_cur_prev);
 }
 

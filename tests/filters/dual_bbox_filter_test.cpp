@@ -558,6 +558,61 @@ TEST(DualBBoxFilter, KeepStaticGivesBackWhatOnlyTheRulesRemoved) {
   EXPECT_EQ(keeping.filter(scene.depth, detections({p})).static_depth.at<float>(27, 20), 0.f);
 }
 
+// A camera 0.5 m above a level floor, looking level (camera y down: the floor is the plane
+// y = 0.5, Hyperplane((0, -1, 0), 0.5) like pf2_slam's floorInCamera), 40x30 pixels at f = 30: the
+// floor fills rows 19..29 (3.3 m at row 19 to 1.03 m at row 29), a wall at 3.5 m the rows above,
+// and a person stands at 0.9 m in cols 15..24, rows 5..29.
+struct FloorScene {
+  CameraIntrinsics k{30, 30, 19.5, 14.5, 40, 30};
+  Eigen::Hyperplane<double, 3> floor_c{Eigen::Vector3d(0, -1, 0), 0.5};
+  cv::Rect body{15, 5, 10, 25};
+  cv::Mat depth = cv::Mat(30, 40, CV_32F, cv::Scalar(3.5f));
+  FloorScene() {
+    for (int v = 19; v < 30; ++v) depth.row(v).setTo(static_cast<float>(0.5 * k.fy / (v - k.cy)));
+    depth(body).setTo(0.9f);
+  }
+};
+
+// The static plane: the floor's pixels are known static without any prediction (no keyframe saw
+// them), the person standing on it and the wall are not; through the filter, the floor a box rule
+// took around a person (no mask) is given back, the person stays removed.
+TEST(PredictedDepthEvidence, TheFloorPlaneIsStaticWhatStandsOnItIsNot) {
+  const FloorScene scene;
+  PredictedDepthEvidence evidence(0.15);
+  evidence.setPlaneMargin(0.03);
+  EXPECT_TRUE(evidence.staticMask(scene.depth).empty());  // no plane: no opinion
+  evidence.setStaticPlane(scene.floor_c, scene.k);
+  const cv::Mat known = evidence.staticMask(scene.depth);
+  ASSERT_FALSE(known.empty());
+  EXPECT_EQ(cv::countNonZero(known), 11 * 30);  // the floor's rows beside the person
+  EXPECT_EQ(cv::countNonZero(known(scene.body)), 0);
+  EXPECT_EQ(cv::countNonZero(known.rowRange(0, 19)), 0);  // the wall
+  evidence.setPlaneMargin(0.0);
+  EXPECT_TRUE(evidence.staticMask(scene.depth).empty());  // margin 0: off
+  CameraIntrinsics other = scene.k;
+  other.width = 80;
+  evidence.setPlaneMargin(0.03);
+  evidence.setStaticPlane(scene.floor_c, other);
+  EXPECT_THROW(evidence.staticMask(scene.depth), Error);
+
+  auto shared = std::make_shared<PredictedDepthEvidence>(0.15);
+  shared->setPlaneMargin(0.03);
+  DualBBoxFilter::Options o = testOptions();
+  o.geometric = true;
+  o.geometric_addition.keep_static = true;
+  DualBBoxFilter filter(o);
+  filter.setDynamicEvidence(shared);
+  const Detections seen = detections({person(12, 4, 27, 29)});
+  const cv::Mat floor_removed = filter.filter(scene.depth, seen).removed & known;
+  // The ring's three columns (11, 27, 28) on the 11 floor rows, and the box's five columns beside
+  // the person on rows 25..29, where the floor (1.03-1.43 m) lies in the person's interval.
+  EXPECT_EQ(cv::countNonZero(floor_removed), 3 * 11 + 5 * 5);
+  shared->setStaticPlane(scene.floor_c, scene.k);
+  const DualBBoxFilter::Result kept = filter.filter(scene.depth, seen);
+  EXPECT_EQ(cv::countNonZero(kept.removed & known), 0);
+  EXPECT_EQ(cv::countNonZero(kept.removed(scene.body)), scene.body.area());
+}
+
 // keep_static_behind_masks: the known static depth under a person's mask that lies behind their
 // interval by more than human_margin (the wall the mask's edge spills over) is kept and reported;
 // the person's own depth under the mask stays removed, known static or not.

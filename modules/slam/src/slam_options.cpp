@@ -101,6 +101,8 @@ void filterSettings(SlamOptions& o, Settings& s) {
   s.integer("filter.geometric_keyframes", &o.prediction.keyframes, 1, 30, "keyframes", "keyframes the prediction is made from");
   s.number("filter.static_margin", &o.static_margin, 0.0, 1.0, "metres",
            "plus 1 % of the depth: this close to the prediction is known static (filter.keep_static)");
+  s.number("filter.floor_margin", &o.floor_margin, 0.0, 0.5, "metres",
+           "plus 1 % of the depth: this close to the floor plane is known static (filter.keep_static; 0 = off)");
 }
 
 void odometrySettings(RgbdOdometry::Options& d, Settings& s) {

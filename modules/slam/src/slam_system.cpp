@@ -19,6 +19,7 @@
 #include "pf2/slam/motion_guess.h"
 #include "pf2/slam/person_centres.h"
 #include "pf2/slam/slam_runner.h"
+#include "pf2/surface/floor_height.h"
 #include "pf2/surface/up_direction.h"
 #include "mapping_thread.h"
 
@@ -155,6 +156,8 @@ class SlamSystem::Pipeline {
       // The world's up (for the bodies and stats.json), from the first frames' floor and table tops.
       if (record.has_pose && result.status != TrackStatus::kBridged) {
         up_.update(static_frame.depth, frame.intrinsics, result.T_w_c);
+        // The floor's height is measured along the up, so only once the up is final.
+        if (up_.settled()) floor_.update(static_frame.depth, frame.intrinsics, result.T_w_c, up_.up_w());
       }
       std::vector<FrameResult::Person> people;
       if (track_humans_) people = placePeople(frame, detections, filtered, result, &record);
@@ -247,6 +250,7 @@ class SlamSystem::Pipeline {
     removal.geometric_margin = options.geometric_margin;
     removal.geometric_opening = options.geometric_opening;
     removal.static_margin = options.static_margin;
+    removal.floor_margin = options.floor_margin;
     return removal;
   }
 
@@ -300,13 +304,23 @@ class SlamSystem::Pipeline {
     const Eigen::Isometry3d T_cur_prev = guess_.motion(keyframes);
     // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
     cv::Mat prediction;
+    std::optional<Eigen::Hyperplane<double, 3>> floor_c;
     if (options_.filter.geometric && guess_.known()) {
       ScopedStageTimer timer(stats_, "predict");
-      prediction = prediction_.predict(keyframes, guess_.lastPose(keyframes) * T_cur_prev.inverse(), frame.intrinsics);
+      const Eigen::Isometry3d T_w_c_guess = guess_.lastPose(keyframes) * T_cur_prev.inverse();
+      prediction = prediction_.predict(keyframes, T_w_c_guess, frame.intrinsics);
+      if (floor_.found()) floor_c = floorInCamera(T_w_c_guess);
     }
-    *filtered = removal_->filter(frame, detections, T_cur_prev, prediction, stats_);
+    *filtered = removal_->filter(frame, detections, T_cur_prev, prediction, stats_, floor_c);
     static_frame->depth = filtered->static_depth;
     if (!masks_dir_.empty()) writeMask(frame.timestamp, filtered->removed);
+  }
+
+  // The floor as a plane of camera T_w_c: a point p_c lies up_w . (R p_c + t) - height above it.
+  Eigen::Hyperplane<double, 3> floorInCamera(const Eigen::Isometry3d& T_w_c) const {
+    const Eigen::Vector3d up_w = up_.up_w();
+    return Eigen::Hyperplane<double, 3>(T_w_c.linear().transpose() * up_w,
+                                        up_w.dot(T_w_c.translation()) - floor_.height());
   }
 
   // What the tracker leaves out: the removed depth and the depth kept under a person's mask, whose
@@ -453,6 +467,7 @@ class SlamSystem::Pipeline {
   std::shared_ptr<PoseRefiner> keypoint_refiner_;    // the body thread's, when keypoints are refined
   std::unique_ptr<BodyTrackFitter> body_fitter_;    // declared after the model it uses
   UpDirectionEstimator up_;                          // the world's up (body fits, stats.json)
+  FloorEstimator floor_;                             // the floor's height (known static: the filter)
   SlamRunSummary summary_;
   bool finished_ = false;
   std::chrono::steady_clock::time_point first_frame_, last_frame_end_;

@@ -94,12 +94,26 @@ class PredictedDepthEvidence : public DynamicEvidence {
   // CV_32F metres, 0 = no prediction; must have the size of the depth images filtered next.
   void setPrediction(const cv::Mat& predicted_depth) { prediction_ = predicted_depth; }
   cv::Mat dynamicMask(const cv::Mat& depth) override;
-  // Measured within static_margin (metres, plus 1 % of the depth) of a known prediction.
+  // Measured within static_margin (metres, plus 1 % of the depth) of a known prediction, or within
+  // plane_margin of the static plane.
   cv::Mat staticMask(const cv::Mat& depth) override;
   void setStaticMargin(double metres) { static_margin_ = metres; }
+  // A plane of this view known to be static (the floor: people stand on it, they are not part of
+  // it), in the camera frame, metres; std::nullopt for none. Depth whose point lies within
+  // plane_margin of it (plus 1 % of the depth) is static too, also where the prediction has no
+  // depth: the floor beside a person no keyframe has seen without them. `intrinsics` are those of
+  // the depth images filtered next.
+  void setStaticPlane(const std::optional<Eigen::Hyperplane<double, 3>>& plane_c, const CameraIntrinsics& intrinsics) {
+    plane_c_ = plane_c;
+    plane_intrinsics_ = intrinsics;
+  }
+  void setPlaneMargin(double metres) { plane_margin_ = metres; }
 
  private:
-  double static_margin_ = 0.0;  // 0 = no static evidence
+  double static_margin_ = 0.0;  // 0 = no static evidence from the prediction
+  double plane_margin_ = 0.0;   // 0 = no static evidence from the plane
+  std::optional<Eigen::Hyperplane<double, 3>> plane_c_;
+  CameraIntrinsics plane_intrinsics_;
   double margin_;
   int opening_radius_;
   cv::Mat prediction_;

@@ -7,6 +7,7 @@
 //
 // One frame at a time, in order. NOT thread safe (the detector and the filter keep state).
 #include <memory>
+#include <optional>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -28,6 +29,8 @@ class PersonRemoval {
     int geometric_opening = 0;       // pixels: the dynamic mask is opened by a disc this wide
     double static_margin = 0.0;      // metres (plus 1 % of the depth): this close to the prediction
                                      // is known static (filter.keep_static); 0 = no static evidence
+    double floor_margin = 0.0;       // metres (plus 1 % of the depth): this close to the floor plane
+                                     // is known static (filter.keep_static); 0 = the floor is not
   };
 
   // Throws pf2::Error when detector is null.
@@ -37,9 +40,11 @@ class PersonRemoval {
   Detections detect(const Frame& frame, StageStats* stats);
   // The Dual-BBox filter on the frame's depth (stage "filter"): T_cur_prev moves the previous
   // frame's points into this one (identity without a guess); prediction is the static depth
-  // predicted for this view (CV_32F metres, 0 = unknown), empty for no geometric opinion.
+  // predicted for this view (CV_32F metres, 0 = unknown), empty for no geometric opinion; floor_c
+  // is the floor plane in this view's camera frame, if known.
   DualBBoxFilter::Result filter(const Frame& frame, const Detections& detections, const Eigen::Isometry3d& T_cur_prev,
-                                const cv::Mat& prediction, StageStats* stats);
+                                const cv::Mat& prediction, StageStats* stats,
+                                const std::optional<Eigen::Hyperplane<double, 3>>& floor_c = std::nullopt);
 
   const HumanDetector& detector() const { return *detector_; }
   const Options& options() const { return options_; }
