@@ -77,21 +77,6 @@ inline void reachColumns(const FilterBox& b, const cv::Rect& rect, int* u0, int*
   *u1 = std::min(*u1, b.reach_area.x + b.reach_area.width);
 }
 
-// Calls visit(v, u) for each pixel of rect (a box or its ring) within box b's reach.
-template <typename Visit>
-void forEachInReach(const FilterBox& b, const cv::Rect& rect, Visit visit) {
-  int u_begin, u_end;
-  reachColumns(b, rect, &u_begin, &u_end);
-  for (int v = rect.y; v < rect.y + rect.height; ++v) {
-    bool everywhere;
-    const uint8_t* r = reachRow(b, v, &everywhere);
-    if (!r) continue;
-    for (int u = u_begin; u < u_end; ++u) {
-      if (everywhere || r[u]) visit(v, u);
-    }
-  }
-}
-
 // Share of rect's valid depths (every second pixel and row) inside interval +- margin.
 double shareInInterval(const cv::Mat& depth, const cv::Rect& rect, const DepthInterval& interval, float margin) {
   long inside = 0, valid = 0;
@@ -389,38 +374,6 @@ double jointDepth(const cv::Mat& depth, const PersonDetection& person, const Dua
                                 options.joint_min_count, options.human_histogram.max_depth);
 }
 
-// Pixels around a keypoint searched for its nearest depth (a keypoint on the silhouette's edge also
-// sees what lies behind the person; the person is the near side).
-constexpr int kJointWindow = 3;
-
-// The span of the nearest measured depths around a person's keypoints scored at least
-// options.joint_min_score; invalid when fewer than options.joint_min_count have one.
-DepthInterval jointSpan(const cv::Mat& depth, const PersonDetection& person, const DualBBoxFilter::Options& options) {
-  DepthInterval span;
-  if (options.joint_min_count <= 0) return span;
-  const cv::Rect image(0, 0, depth.cols, depth.rows);
-  int counted = 0;
-  for (const Keypoint2d& k : person.keypoints) {
-    if (k.score < options.joint_min_score) continue;
-    const cv::Rect window = cv::Rect(static_cast<int>(std::lround(k.u)) - kJointWindow,
-                                     static_cast<int>(std::lround(k.v)) - kJointWindow, 2 * kJointWindow + 1,
-                                     2 * kJointWindow + 1) & image;
-    float nearest = std::numeric_limits<float>::infinity();
-    for (int v = window.y; v < window.y + window.height; ++v) {
-      const float* d = depth.ptr<float>(v);
-      for (int u = window.x; u < window.x + window.width; ++u) {
-        if (d[u] > 0.f && d[u] < nearest) nearest = d[u];
-      }
-    }
-    if (!std::isfinite(nearest) || nearest >= options.human_histogram.max_depth) continue;
-    span.min = counted == 0 ? nearest : std::min<double>(span.min, nearest);
-    span.max = counted == 0 ? nearest : std::max<double>(span.max, nearest);
-    ++counted;
-  }
-  span.valid = counted >= options.joint_min_count;
-  return span;
-}
-
 // The principal interval of the mask's pixels within half a window of `depth_m`.
 DepthInterval intervalNear(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi, double depth_m,
                            const HistogramOptions& histogram) {
@@ -476,24 +429,6 @@ std::vector<DepthInterval> humanIntervals(const cv::Mat& depth, const std::vecto
     if (joints <= 0.0 || taken[t].contains(joints, options.human_margin)) continue;
     const DepthInterval at_joints = intervalNear(depth, person.mask, boxes[t].rect, joints, histogram);
     if (at_joints.valid) intervals[t] = at_joints;
-  }
-  return intervals;
-}
-
-// Options::joint_span_margin: each masked person's interval cut to the span of the depths at their
-// confident keypoints, widened by the margin (a segmenter's mask can spill far onto the wall behind
-// a seated person, and the interval over it then holds the wall); unchanged where the span misses
-// the interval.
-std::vector<DepthInterval> cutToJointSpans(const cv::Mat& depth, const std::vector<FilterBox>& boxes,
-                                           const Detections& detections, const DualBBoxFilter::Options& options,
-                                           std::vector<DepthInterval> intervals) {
-  for (size_t t = 0; t < boxes.size(); ++t) {
-    if (boxes[t].mask.empty() || !intervals[t].valid) continue;
-    const DepthInterval span = jointSpan(depth, detections.people[boxes[t].detection], options);
-    if (!span.valid) continue;
-    const double low = std::max(intervals[t].min, span.min - options.joint_span_margin);
-    const double high = std::min(intervals[t].max, span.max + options.joint_span_margin);
-    if (low < high) intervals[t].min = low, intervals[t].max = high;
   }
   return intervals;
 }
@@ -626,29 +561,7 @@ cv::Mat staticBehindMasks(const cv::Mat& depth, const cv::Mat& known, const std:
 void keepUnderMasks(const cv::Mat& depth, const cv::Mat& pixels, DualBBoxFilter::Result* result) {
   depth.copyTo(result->static_depth, pixels);
   result->removed.setTo(0, pixels);
-  result->kept_for_map_only = pixels;
-}
-
-// Options::joint_span_margin: the pixels the box rule (within each box's reach) would have taken
-// with the person's interval before the cut and that labelPeople left kept.
-cv::Mat keptByTheCut(const cv::Mat& depth, const std::vector<FilterBox>& boxes,
-                     const std::vector<DepthInterval>& wide_intervals, float human_margin, const cv::Mat& state) {
-  cv::Mat spared = cv::Mat::zeros(depth.size(), CV_8U);
-  for (size_t t = 0; t < boxes.size(); ++t) {
-    const DepthRange wide(wide_intervals[t], human_margin);
-    forEachInReach(boxes[t], boxes[t].rect, [&](int v, int u) {
-      if (state.at<uint8_t>(v, u) == kKept && wide.contains(depth.at<float>(v, u))) spared.at<uint8_t>(v, u) = 255;
-    });
-  }
-  return spared;
-}
-
-// The spared pixels D_b kept join Result::kept_for_map_only: the tracker leaves out what may
-// still be a person's limb.
-void reportSpared(const cv::Mat& spared, DualBBoxFilter::Result* result) {
-  const cv::Mat kept = spared & (result->static_depth > 0.f);
-  if (result->kept_for_map_only.empty()) result->kept_for_map_only = kept;
-  else result->kept_for_map_only |= kept;
+  result->kept_under_masks = pixels;
 }
 
 // The people's depth the gate compares with: each raw backend mask's pixels whose depth lies in
@@ -680,11 +593,21 @@ void removeRingOutliers(const cv::Mat& depth, const std::vector<FilterBox>& boxe
                         double margin, const cv::Mat& outside, cv::Mat& state) {
   const DepthRange background(interval, margin);
   for (const FilterBox& b : boxes) {
-    forEachInReach(b, b.ring, [&](int v, int u) {
-      uint8_t& s = state.at<uint8_t>(v, u);
-      const float d = depth.at<float>(v, u);
-      if (s == kKept && outside.at<uint8_t>(v, u) && d > 0.f && !background.contains(d)) s = kRemoved;
-    });
+    int u_begin, u_end;
+    reachColumns(b, b.ring, &u_begin, &u_end);
+    for (int v = b.ring.y; v < b.ring.y + b.ring.height; ++v) {
+      const float* d = depth.ptr<float>(v);
+      const uint8_t* out = outside.ptr<uint8_t>(v);
+      uint8_t* s = state.ptr<uint8_t>(v);
+      bool everywhere;
+      const uint8_t* r = reachRow(b, v, &everywhere);
+      if (!r) continue;
+      for (int u = u_begin; u < u_end; ++u) {
+        if ((everywhere || r[u]) && s[u] == kKept && out[u] && d[u] > 0.f && !background.contains(d[u])) {
+          s[u] = kRemoved;
+        }
+      }
+    }
   }
 }
 
@@ -778,18 +701,13 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   result.background = backgroundInterval(depth, boxes, o.background_histogram, outside_);
   state_.create(depth.size(), CV_8U);
   state_.setTo(0);
-  const std::vector<DepthInterval> wide_intervals = humanIntervals(depth, boxes, detections, o);
-  const std::vector<DepthInterval> intervals =
-      o.joint_span_margin > 0.0 ? cutToJointSpans(depth, boxes, detections, o, wide_intervals) : wide_intervals;
+  const std::vector<DepthInterval> intervals = humanIntervals(depth, boxes, detections, o);
   const float human_margin = static_cast<float>(o.human_margin);
   std::vector<DepthInterval> second_intervals(boxes.size());
   if (o.separate_occlusions) {
     findOccludedIntervals(depth, boxes, o.human_histogram, human_margin, intervals, &second_intervals);
   }
   const std::vector<cv::Rect> areas = labelPeople(depth, boxes, intervals, second_intervals, human_margin, state_);
-  const cv::Mat spared = o.joint_span_margin > 0.0
-                             ? keptByTheCut(depth, boxes, wide_intervals, human_margin, state_)
-                             : cv::Mat();
   removeRingOutliers(depth, boxes, result.background, o.background_margin, outside_, state_);
   const cv::Rect guarded_area = o.temporal ? temporal_.guard(depth, temporalIntrinsics(depth), T_cur_prev, state_)
                                            : cv::Rect();
@@ -809,7 +727,6 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);
   // After the people and the temporal guard: they still see these pixels as the person's.
   if (!behind.empty()) keepUnderMasks(depth, behind, &result);
-  if (!spared.empty()) reportSpared(spared, &result);
   return result;
 }
 

@@ -32,9 +32,6 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
              "with masks, a person's interval is taken again near the median depth under at least this many "
              "confident keypoints when it lies outside it (0 = off)");
   s->number("filter.joint_min_score", &f->joint_min_score, 0.0, 1.0, "score", "confident keypoint: at least this score");
-  s->number("filter.joint_span_margin", &f->joint_span_margin, 0.0, 2.0, "metres",
-            "with masks, a person's interval is cut to the span of the depths at their confident keypoints widened by "
-            "this (0 = off)");
   s->integer("filter.depth_gate_radius", &f->depth_gate.radius, 0, 100, "pixels",
              "with masks, depth the box, ring or temporal rule removed outside the masks is given back when it lies "
              "apart from the masked person depth within this window (0 = off, the paper)");

@@ -637,13 +637,13 @@ TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheWallUnderTheMaskAndReportsIt) 
   };
   const auto off = run(false);
   EXPECT_EQ(off.static_depth.at<float>(20, 16), 0.f);  // under the mask: removed
-  EXPECT_TRUE(off.kept_for_map_only.empty());
+  EXPECT_TRUE(off.kept_under_masks.empty());
   const auto on = run(true);
   EXPECT_EQ(on.static_depth.at<float>(20, 16), 1.9f);
   EXPECT_EQ(on.removed.at<uint8_t>(20, 16), 0);
-  ASSERT_FALSE(on.kept_for_map_only.empty());
-  EXPECT_EQ(cv::countNonZero(on.kept_for_map_only), 1);
-  EXPECT_EQ(on.kept_for_map_only.at<uint8_t>(20, 16), 255);
+  ASSERT_FALSE(on.kept_under_masks.empty());
+  EXPECT_EQ(cv::countNonZero(on.kept_under_masks), 1);
+  EXPECT_EQ(on.kept_under_masks.at<uint8_t>(20, 16), 255);
   EXPECT_EQ(cv::countNonZero(on.static_depth(cv::Rect(15, 10, 10, 15))), 1);  // the person stays removed
   EXPECT_EQ(on.people.size(), off.people.size());
   // Not known static (no prediction there): the mask stands.
@@ -691,51 +691,6 @@ TEST(DualBBoxFilter, KeepStaticLeavesAPosedPersonsSkeletonRemoved) {
   for (Keypoint2d& k : p.keypoints) k.score = 0.1f;
   p.keypoints[5].score = p.keypoints[6].score = 0.9f;
   EXPECT_EQ(cv::countNonZero(run(p).static_depth(body)), 149);
-}
-
-// joint_span_margin: a seated person at 1.5 m (cols 15..24, rows 10..24) before a wall at 3.0 m,
-// whose mask spills onto the wall (cols 10..14); over a 2 m window the mask's interval holds the
-// wall, so the box rule takes the wall beside the person too. Cut to the keypoints' depths plus
-// 0.5 m, the wall in the box is kept (and reported for the tracker to leave out); the mask, wall
-// spill included, stays removed.
-TEST(DualBBoxFilter, JointSpanCutsTheWallOffAMasksInterval) {
-  cv::Mat depth(30, 40, CV_32F, cv::Scalar(3.0f));
-  const cv::Rect body(15, 10, 10, 15);
-  depth(body).setTo(1.5f);
-  PersonDetection p = person(13, 9, 27, 26);
-  p.mask = cv::Mat::zeros(30, 40, CV_8U);
-  p.mask(cv::Rect(10, 10, 15, 15)).setTo(255);
-  p.keypoints.assign(17, Keypoint2d{0, 0, 0});
-  // COCO-17 shoulders and hips on the body.
-  const std::vector<std::pair<int, cv::Point>> seen = {{5, {16, 12}}, {6, {23, 12}}, {11, {16, 19}}, {12, {23, 19}}};
-  for (const auto& [index, at] : seen) p.keypoints[index] = Keypoint2d{float(at.x), float(at.y), 0.9f};
-  DualBBoxFilter::Options o = testOptions();
-  o.use_mask = true;
-  o.mask_dilation = 0;
-  o.human_histogram.window = 2.0;
-  o.box_scale = 1.0;  // no ring: the box rule alone
-  cv::Mat wall_in_box = cv::Mat::zeros(30, 40, CV_8U);
-  wall_in_box(cv::Rect(13, 9, 14, 17)).setTo(255);
-  wall_in_box.setTo(0, p.mask);
-  const int wall_pixels = cv::countNonZero(wall_in_box);
-  ASSERT_EQ(wall_pixels, 14 * 17 - 12 * 15);  // the box less the mask's 12 columns in it
-  const auto run = [&] {
-    DualBBoxFilter filter(o);
-    return filter.filter(depth, detections({p}));
-  };
-  const auto wide = run();
-  EXPECT_EQ(cv::countNonZero(wide.removed & wall_in_box), wall_pixels);
-  EXPECT_TRUE(wide.kept_for_map_only.empty());
-  o.joint_span_margin = 0.5;
-  const auto cut = run();
-  EXPECT_EQ(cv::countNonZero(cut.removed & wall_in_box), 0);
-  EXPECT_EQ(cv::countNonZero(cut.removed & p.mask), 15 * 15);
-  ASSERT_FALSE(cut.kept_for_map_only.empty());
-  EXPECT_EQ(cv::countNonZero(cut.kept_for_map_only), wall_pixels);
-  EXPECT_NEAR(cut.people[0].interval.max, 2.0, 1e-6);  // the keypoints at 1.5 m, plus 0.5
-  // Keypoints too few (under joint_min_count): no cut.
-  for (Keypoint2d& k : p.keypoints) k.score = 0.1f;
-  EXPECT_EQ(cv::countNonZero(run().removed & wall_in_box), wall_pixels);
 }
 
 // The temporal addition moves pixels with the camera's intrinsics: none given, or of another

@@ -36,13 +36,6 @@ DualBBoxFilter::Options SlamOptions::defaultFilterOptions() {
   // kept on average, 96.2 -> 96.0 % of the people removed; Bonn crowd windows 1.92 -> 1.57 cm mean,
   // within the +-0.15 cm any small filter change moves them (docs/BENCHMARKS.md).
   options.depth_gate.radius = 45;
-  // A masked person's interval cut to their keypoints' depths +- 0.5 m: the segmenter's mask of a
-  // seated person spills onto the wall behind them, and the box rule then took the wall beside
-  // them too. pf2_synth hard cases 0.3-0.6 points more of the static depth kept, 0-0.16 fewer of
-  // the people removed (a seated person behind a walker who has their mask but not their pose);
-  // 0.3 m kept 0.2 more and removed 0.1 fewer. The tracker leaves the spared pixels out (SlamSystem;
-  // with them Bonn crowd went 1.42 -> 1.76 cm); docs/BENCHMARKS.md.
-  options.joint_span_margin = 0.5;
   // A selfie component without a MoveNet pose that the segmenter is this sure of is a person even
   // without evidence: someone present since the first keyframe (so static to the prediction), cut
   // by the border or seated, is otherwise fused into the map. pf2_synth hard cases 96.0 -> 97.9 %

@@ -323,14 +323,12 @@ class SlamSystem::Pipeline {
                                         up_w.dot(T_w_c.translation()) - floor_.height());
   }
 
-  // What the tracker leaves out: the removed depth and the depth the filter kept for the map only:
-  // under a person's mask, whose colour is still partly the person's (the photometric term would
-  // follow them; Bonn crowd ATE 1.45 -> 2.07 cm when it was tracked on), and beside a person
-  // outside their keypoints' depths, where a limb the mask missed may lie (1.42 -> 1.76 cm);
-  // docs/BENCHMARKS.md.
+  // What the tracker leaves out: the removed depth and the depth kept under a person's mask, whose
+  // colour is still partly the person's (the photometric term would follow them; Bonn crowd ATE
+  // 1.45 -> 2.07 cm when it was tracked on, docs/BENCHMARKS.md).
   static cv::Mat trackerMask(const DualBBoxFilter::Result& filtered) {
-    if (filtered.kept_for_map_only.empty()) return filtered.removed;
-    return filtered.removed | filtered.kept_for_map_only;
+    if (filtered.kept_under_masks.empty()) return filtered.removed;
+    return filtered.removed | filtered.kept_under_masks;
   }
 
   // The filter's removed pixels of one frame into the masks folder being written.

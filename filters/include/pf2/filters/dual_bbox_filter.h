@@ -16,8 +16,6 @@
 // Additions (each off by default, see Options):
 //   use_mask  — where a backend gives a person mask, the mask dilated by mask_dilation pixels is
 //               removed too and the person's histogram is taken over the mask only;
-//   joint span — (with use_mask) a person's interval cut to the depths at their keypoints widened
-//               by joint_span_margin; what the cut spares is reported as kept for the map only;
 //   temporal  — the previous frame's person pixels (and those it guarded), moved into this frame
 //               with the camera motion and dilated, guard pixels whose depth agrees with them
 //               (boxes that were missed or too small); a pixel is guarded at most temporal_max_age
@@ -155,11 +153,6 @@ class DualBBoxFilter {
                                      // confident keypoints lies outside the mask's interval, the
                                      // interval is taken again near it (see the .cpp; 0 = off)
     double joint_min_score = 0.3;    // confident keypoint: score at least this
-    double joint_span_margin = 0.0;  // metres; with a mask and joint_min_count confident keypoints,
-                                     // the interval is cut to the span of the nearest depths
-                                     // around them widened by this (the mask can spill onto the
-                                     // wall behind a seated person); what the cut spares is
-                                     // reported in Result::kept_for_map_only (0 = off)
     PersonDepthGate::Options depth_gate;  // with masks: removed depth apart from the person's depth
                                      // around it is given back (PersonDepthGate; radius 0 = off)
     bool temporal = false;           // guard with last frame's person pixels (TemporalGuard)
@@ -169,7 +162,7 @@ class DualBBoxFilter {
     // With keep_static: depth under a person's dilated mask that the evidence knows as static and
     // that lies more than human_margin behind the person's interval (the wall the segmenter's
     // blurred edge, or a real person's hair, spills over) is kept in D_b too, and reported in
-    // Result::kept_for_map_only for callers whose colour term should leave it out.
+    // Result::kept_under_masks for callers whose colour term should leave it out.
     bool keep_static_behind_masks = false;
   };
 
@@ -188,11 +181,9 @@ class DualBBoxFilter {
   struct Result {
     cv::Mat static_depth;      // D_b, CV_32F metres, 0 where removed or no measurement
     cv::Mat removed;           // CV_8U, 255 where a measured depth was removed from D_b
-    // CV_8U, 255 where D_b keeps depth a tracker should leave out; empty when none: under a
-    // person's mask (Options::keep_static_behind_masks), right as depth but the image's colour
-    // there is still partly the person's; and near a person, outside the interval cut to their
-    // keypoints (Options::joint_span_margin), where a limb the mask missed may still lie.
-    cv::Mat kept_for_map_only;
+    // CV_8U, 255 where D_b keeps depth under a person's mask (Options::keep_static_behind_masks):
+    // right as depth, but the image's colour there is still partly the person's; empty when none.
+    cv::Mat kept_under_masks;
     std::vector<Person> people;
     DepthInterval background;  // (b_min, b_max)
   };
