@@ -153,7 +153,8 @@ class SlamSystem::Pipeline {
       }
       FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
                          Eigen::Isometry3d::Identity(), {}};
-      // The world's up (for the bodies and stats.json), from the first frames' floor and table tops.
+      // The world's up (for the bodies, the floor and stats.json), from the first frames' floor and
+      // table tops.
       if (record.has_pose && result.status != TrackStatus::kBridged) {
         up_.update(static_frame.depth, frame.intrinsics, result.T_w_c);
         // The floor's height is measured along the up, so only once the up is final.
@@ -466,7 +467,7 @@ class SlamSystem::Pipeline {
   std::shared_ptr<const BodyModel> body_model_;     // with bodies.fit and a detector
   std::shared_ptr<PoseRefiner> keypoint_refiner_;    // the body thread's, when keypoints are refined
   std::unique_ptr<BodyTrackFitter> body_fitter_;    // declared after the model it uses
-  UpDirectionEstimator up_;                          // the world's up (body fits, stats.json)
+  UpDirectionEstimator up_;                          // the world's up (body fits, floor, stats.json)
   FloorEstimator floor_;                             // the floor's height (known static: the filter)
   SlamRunSummary summary_;
   bool finished_ = false;

@@ -30,7 +30,7 @@ class PersonRemoval {
     double static_margin = 0.0;      // metres (plus 1 % of the depth): this close to the prediction
                                      // is known static (filter.keep_static); 0 = no static evidence
     double floor_margin = 0.0;       // metres (plus 1 % of the depth): this close to the floor plane
-                                     // is known static (filter.keep_static); 0 = the floor is not
+                                     // is known static (filter.keep_static); 0 = no floor evidence
   };
 
   // Throws pf2::Error when detector is null.
