@@ -19,7 +19,12 @@ class TrajectorySmoother {
  public:
   struct Options {
     double position_noise = 0.005;   // metres: scatter of one frame's measured position; 0 = off
-    double acceleration_noise = 1.5; // m/s^2: typical acceleration of the camera (hand-held)
+    // m/s^2: typical acceleration of the camera, per axis. The ground truth of the hand-held
+    // cameras we have moves at 0.14 (Bonn crowd), 0.32 (TUM fr1/rpy) and 0.39 (pf2_synth xyz, the
+    // fastest of its paths) m/s^2 RMS along its busiest axis, measured over 0.2 s; 0.5 covers them
+    // all. (1.5 before: the smoother then followed the odometry's wobble over a few frames; TUM
+    // fr1/rpy 1.16 -> 1.05 cm, Bonn 1.42 -> 1.38 cm with 0.5; docs/BENCHMARKS.md.)
+    double acceleration_noise = 0.5;
     double max_gap = 0.5;            // seconds between frames that ends a segment
   };
 
