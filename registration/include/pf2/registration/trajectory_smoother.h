@@ -22,8 +22,8 @@ class TrajectorySmoother {
     // m/s^2: typical acceleration of the camera, per axis. The ground truth of the hand-held
     // cameras we have moves at 0.14 (Bonn crowd), 0.32 (TUM fr1/rpy) and 0.39 (pf2_synth xyz, the
     // fastest of its paths) m/s^2 RMS along its busiest axis, measured over 0.2 s; 0.5 covers them
-    // all. (1.5 before: the smoother then followed the odometry's wobble over a few frames; TUM
-    // fr1/rpy 1.16 -> 1.05 cm, Bonn 1.42 -> 1.38 cm with 0.5; docs/BENCHMARKS.md.)
+    // all. A looser value lets the smoother follow the odometry's wobble over a few frames, a
+    // stiller one cuts real motion (docs/BENCHMARKS.md, "Tracking with the learned detector").
     double acceleration_noise = 0.5;
     double max_gap = 0.5;            // seconds between frames that ends a segment
   };
