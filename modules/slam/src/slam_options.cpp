@@ -143,7 +143,7 @@ void trackerSettings(SlamOptions& o, Settings& s) {
   s.number("trajectory.position_noise", &o.trajectory.position_noise, 0.0, 1.0, "metres",
            "scatter of one frame's measured camera position, for the smoothing of trajectory.txt (0 = none)");
   s.number("trajectory.acceleration_noise", &o.trajectory.acceleration_noise, 0.01, 1000.0, "m/s^2",
-           "typical acceleration of the camera, for the smoothing of trajectory.txt");
+           "typical acceleration of the camera per axis (RMS), for the smoothing of trajectory.txt");
   s.number("trajectory.max_gap", &o.trajectory.max_gap, 0.0, 60.0, "seconds", "frames further apart: smoothed apart");
   s.number("trajectory.fill_gaps", &o.gaps.max_gap, 0.0, 60.0, "seconds",
            "frames without a measured pose (bridged or lost) between two measured frames at most this far apart get "
