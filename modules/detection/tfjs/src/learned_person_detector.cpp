@@ -118,6 +118,14 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
                     std::max(person.box.x_lr, static_cast<float>(r.x + r.width)),
                     std::max(person.box.y_lr, static_cast<float>(r.y + r.height))};
       person.score = static_cast<float>(cv::mean(probability, person.mask)[0]);
+    } else {
+      // MoveNet's person score (centre heat x mean keypoint score) stays below 0.5 for people it
+      // sees whole but small or in dark clothes (a seated person 3 m away with 15-17 of 17
+      // keypoints confident: 0.43-0.49), and the filter uses boxes above 0.5. A pose seen whole
+      // is a person whatever the centre's heat: it scores at least its share of confident keypoints.
+      const int confident = confidentKeypoints(person, options.keypoint_min_score);
+      if (confident >= options.whole_pose_keypoints)
+        person.score = std::max(person.score, static_cast<float>(confident) / static_cast<float>(person.keypoints.size()));
     }
     people.push_back(std::move(person));
   }
@@ -127,6 +135,7 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
 LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(options) {
   if (options_.pose_every < 1) throw Error("learned detector: pose_every must be at least 1");
   if (options_.min_pose_keypoints < 1) throw Error("learned detector: min_pose_keypoints must be at least 1");
+  if (options_.whole_pose_keypoints < 1) throw Error("learned detector: whole_pose_keypoints must be at least 1");
   selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
   movenet_ = std::make_unique<MoveNetDetector>(options_.movenet);
 }

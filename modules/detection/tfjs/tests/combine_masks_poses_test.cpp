@@ -70,7 +70,7 @@ TEST(CombineMasksAndPoses, DropsUnsupportedMasksAndWeakPosesKeepsMasklessPoses) 
   EXPECT_TRUE(people[0].mask.empty());
   EXPECT_EQ(people[0].keypoints.size(), 17u);
   EXPECT_FLOAT_EQ(people[0].box.x_ul, 140.f);
-  EXPECT_FLOAT_EQ(people[0].score, 0.4f);
+  EXPECT_FLOAT_EQ(people[0].score, 1.f);  // seen whole: all 17 keypoints confident, above MoveNet's 0.4
   // The unsupported mask is not a person but is handed on as a candidate, whole.
   ASSERT_EQ(unclaimed.size(), 1u);
   EXPECT_EQ(cv::countNonZero(unclaimed[0].mask != mask), 0);
@@ -83,6 +83,29 @@ TEST(CombineMasksAndPoses, DropsUnsupportedMasksAndWeakPosesKeepsMasklessPoses) 
   ASSERT_EQ(supported.size(), 1u);
   EXPECT_EQ(cv::countNonZero(supported[0].mask != mask), 0);
   EXPECT_NEAR(supported[0].score, 0.7f, 1e-6f);
+}
+
+// A pose without mask scores MoveNet's score, or the share of its confident keypoints when it is
+// seen whole (at least whole_pose_keypoints of them): the filter uses boxes above 0.5, and MoveNet
+// scores small people in dark clothes below that with every keypoint found.
+TEST(CombineMasksAndPoses, APoseSeenWholeScoresItsShareOfConfidentKeypoints) {
+  const cv::Mat probability(kH, kW, CV_32F, cv::Scalar(0.0));
+  const LearnedPersonDetector::Options options;
+  ASSERT_EQ(options.whole_pose_keypoints, 14);
+  for (const int confident : {4, 13, 14, 17}) {
+    PersonDetection p = pose(140, 180, 160);
+    for (size_t k = static_cast<size_t>(confident); k < p.keypoints.size(); ++k) p.keypoints[k].score = 0.1f;
+    const std::vector<PersonDetection> people = combineMasksAndPoses({}, {p}, probability, options);
+    ASSERT_EQ(people.size(), 1u) << confident;
+    EXPECT_TRUE(people[0].mask.empty());
+    const float expected = confident >= 14 ? confident / 17.f : 0.4f;
+    EXPECT_NEAR(people[0].score, expected, 1e-6f) << confident << " confident keypoints";
+  }
+  // A pose MoveNet scores higher than its share keeps MoveNet's score.
+  PersonDetection sure = pose(140, 180, 160);
+  for (size_t k = 14; k < sure.keypoints.size(); ++k) sure.keypoints[k].score = 0.1f;
+  sure.score = 0.95f;
+  EXPECT_FLOAT_EQ(combineMasksAndPoses({}, {sure}, probability, options)[0].score, 0.95f);
 }
 
 // A component covering most of the image (blur, a plain wall) is cut to the box of the person

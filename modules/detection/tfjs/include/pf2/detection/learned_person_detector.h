@@ -9,7 +9,8 @@
 // better than the mask alone. Components no person touches are dropped; a component larger than
 // max_component_fraction of the image is cut to the boxes of the people touching it. People with no
 // mask under them stay as boxes without a mask. A person's score is the mean mask probability when
-// it has a mask, MoveNet's score otherwise. Components no person touches (and not implausibly
+// it has a mask, MoveNet's score otherwise (at least the share of confident keypoints of a pose
+// seen whole). Components no person touches (and not implausibly
 // large) are handed on as Detections::candidates.
 #include <memory>
 #include <string>
@@ -36,14 +37,19 @@ class LearnedPersonDetector : public HumanDetector {
     // TUM fr1/rpy (no people) has 3. 4 rather than 5: people cut by the border or blurred show few
     // (pf2_synth halfsphere: 89.5 % of person depth removed instead of 85.0; fr1/rpy: still no one).
     int min_pose_keypoints = 4;
+    // A pose without mask with at least this many confident keypoints is seen whole, and scores at
+    // least their share of its keypoints (MoveNet's own score: its centre's heat, low for small
+    // people in dark clothes). Poses MoveNet puts beside a person, on the wall above a seated one,
+    // show 12-13 (pf2_synth rpy). At least 1; above the pose's keypoint count (17): never.
+    int whole_pose_keypoints = 14;
     // A mask component larger than this fraction of the image is cut to the claimed boxes of the
     // people touching it (blur and plain walls make whole-image components).
     double max_component_fraction = 0.6;
     float max_motion = 32.f;            // largest image motion of a person between frames, pixels
   };
 
-  // Loads both models. Throws pf2::Error naming a missing/unreadable model, or if pose_every or
-  // min_pose_keypoints < 1.
+  // Loads both models. Throws pf2::Error naming a missing/unreadable model, or if pose_every,
+  // min_pose_keypoints or whole_pose_keypoints < 1.
   explicit LearnedPersonDetector(const Options& options);
   ~LearnedPersonDetector() override;
 

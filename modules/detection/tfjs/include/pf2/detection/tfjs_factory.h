@@ -12,7 +12,7 @@
 //   movenet.width, movenet.height   network input in pixels, multiples of 32 (256, 192)
 //   movenet.min_score smallest person score kept (0.2)
 //   learned.pose_every  frames per MoveNet run in "learned" (3)
-//   learned.min_keypoints  confident keypoints (score >= 0.3) a pose needs to be a person (5)
+//   learned.min_keypoints  confident keypoints (score >= 0.3) a pose needs to be a person (4)
 //   learned.max_component  mask components above this fraction of the image are cut to the
 //                     people's boxes (0.6)
 // Keys of other prefixes are ignored (they belong to other backends); an unknown key with one of
