@@ -39,8 +39,9 @@ class LearnedPersonDetector : public HumanDetector {
     int min_pose_keypoints = 4;
     // A pose without mask with at least this many confident keypoints is seen whole, and scores at
     // least the share of its keypoints that are confident (MoveNet's own score weighs in its
-    // centre's heat, which stays low for small people in dark clothes). Poses MoveNet puts beside a person, on the wall above a seated one,
-    // show 12-13 (pf2_synth rpy). At least 1; above the pose's keypoint count (17): never.
+    // centre's heat, which stays low for small people in dark clothes). Poses MoveNet puts beside
+    // a person, on the wall above a seated one, show 12-13 (pf2_synth rpy). At least 1; above the
+    // pose's keypoint count (17): never.
     int whole_pose_keypoints = 14;
     // A mask component larger than this fraction of the image is cut to the claimed boxes of the
     // people touching it (blur and plain walls make whole-image components).
