@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
 #include "pf2/humans/body_track_fitter.h"
@@ -383,6 +384,64 @@ TEST(BodyTrackFitter, FitsEveryNthFrameAndCountsWhatItDrops) {
   EXPECT_EQ(busy.stats().summary("fit").count, accepted);
   EXPECT_GT(busy.stats().summary("fit").median_ms, 0.0);
   EXPECT_EQ(busy.stats().summary("refine").count, 0);
+}
+
+// One observation of the person personInCamera() moved `shift` metres away from the camera: their
+// projected keypoints and a plate of depth points at their pelvis's depth behind their keypoints.
+BodyObservation observationAt(double shift, int frame) {
+  const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
+  BodyParameters body = personInCamera();
+  body.translation.z() += shift;
+  const auto points = BodyFitter(model()).keypointPoints(body);
+  BodyObservation o;
+  o.track_id = 1;
+  o.frame_index = frame;
+  o.timestamp = frame / 30.0;
+  o.intrinsics = K;
+  o.keyframe_id = 0;
+  std::vector<cv::Point2f> pixels;
+  for (int k = 0; k < kCocoKeypointCount; ++k) {
+    if (kCocoToBodyJoint[k].joint < 0) continue;
+    const Eigen::Vector3d& p = points[k];
+    o.keypoints[k] = {K.fx * p.x() / p.z() + K.cx, K.fy * p.y() / p.z() + K.cy, 0.9};
+    pixels.emplace_back(static_cast<float>(o.keypoints[k].u), static_cast<float>(o.keypoints[k].v));
+  }
+  o.depth_area = cv::boundingRect(pixels) & cv::Rect(0, 0, K.width, K.height);
+  const double pelvis_depth = (body.translation + model().restJoints(body.shape)[0]).z();
+  o.depth = cv::Mat(o.depth_area.size(), CV_32F, cv::Scalar(pelvis_depth));
+  return o;
+}
+
+// The cost of the fit of `second` after a fit of `first` on the same track.
+double costAfter(const BodyObservation& first, const BodyObservation& second, double max_start_depth_gap) {
+  BodyTrackFitter::Options options;
+  options.asynchronous = false;
+  options.fit_every = 1;
+  options.max_start_depth_gap = max_start_depth_gap;
+  BodyTrackFitter fitter(model(), options);
+  fitter.offer(first);
+  fitter.offer(second);
+  const std::vector<BodyTrackFit> fits = fitter.finish();
+  EXPECT_EQ(fits.size(), 2u);
+  return fits.empty() ? 0.0 : fits.back().cost;
+}
+
+// A track's previous fit is the next one's start only where its pelvis lies within
+// max_start_depth_gap of the person's measured depth: a track that jumped to someone else 1 m
+// farther starts afresh (its fit is the fit of a new track), one that moved 5 cm starts warm (the
+// temporal term towards the start adds to the cost).
+TEST(BodyTrackFitter, AStartFarFromThePersonsDepthIsNotUsed) {
+  BodyTrackFitter::Options cold_options;
+  cold_options.asynchronous = false;
+  const BodyObservation here = observationAt(0.0, 0), far = observationAt(1.0, 1), near = observationAt(0.05, 1);
+  const auto coldCost = [&](const BodyObservation& o) {
+    BodyTrackFitter fresh(model(), cold_options);
+    fresh.offer(o);
+    return fresh.finish().at(0).cost;
+  };
+  EXPECT_NEAR(costAfter(here, far, 0.3), coldCost(far), 1e-9);
+  EXPECT_GT(std::abs(costAfter(here, far, 0.0) - coldCost(far)), 1e-6);  // no check: warm
+  EXPECT_GT(std::abs(costAfter(here, near, 0.3) - coldCost(near)), 1e-6);
 }
 
 // Keypoint refinement: the hook gets the observation's colour, the person's box and keypoints in

@@ -5,7 +5,8 @@
 // takes one per track every `fit_every` frames into a bounded queue and drops what does not fit in
 // it (a skipped fit is interpolated later, BodyTrackAssembler). Per track it keeps:
 //   - a warm start: the track's previous fit, moved into the new camera frame by the camera's
-//     motion (as tracked then and now), when it is at most warm_start_gap old;
+//     motion (as tracked then and now), when it is at most warm_start_gap old and its pelvis lies
+//     within max_start_depth_gap of the person's measured depth;
 //   - the shape: fitted freely for the first shape_fits fits of a track, then held at their
 //     mean (a person's shape does not change; one shape per track, fitted once);
 //   - the temporal term: later fits are pulled towards the warm start's pose.
@@ -74,6 +75,9 @@ class BodyTrackFitter {
     int queue_capacity = 6;        // observations waiting; more are dropped, [1, 1000]
     int shape_fits = 5;            // fits of a track with a free shape before it is held, [1, 1000]
     double warm_start_gap = 0.5;   // s: an older previous fit is not a start, [0, 10]
+    // m: a start whose pelvis lies farther in depth from the median depth of the person's points
+    // is not used (the fit starts afresh), [0, 10]; 0 = no check.
+    double max_start_depth_gap = 0.3;
     double weight_temporal = 1.0;  // pull towards the warm start's pose (BodyFitter::Options), [0, 100]
     bool asynchronous = true;      // false: fit inside offer() (slower; the same fits on every run)
     // Optional: a closer look at the keypoints before each fit (e.g. PoseRefiner). Called in the
@@ -110,6 +114,8 @@ class BodyTrackFitter {
   void run();
   void fitOne(const BodyObservation& observation);
   BodyFitInput fitInput(const BodyObservation& observation, const TrackState& track, BodyParameters* start);
+  // Whether a warm start's pelvis lies within max_start_depth_gap of the points' median depth.
+  bool startsNearThePerson(const BodyParameters& start, const std::vector<Eigen::Vector3d>& points_c) const;
 
   const BodyModel& model_;
   const Options options_;
