@@ -83,19 +83,48 @@ TEST(HumanMetrics, OffsetsScatterAndFarOrLateEstimates) {
 }
 
 TEST(HumanMetrics, OptimalAssignmentBetweenTwoPeople) {
-  // Two people 0.4 m apart, estimates 0.05 m and 0.3 m beside them (both within 0.5 m). The
-  // tracks swap in the middle frame: a switch there and one back, for both people.
+  // Two people 0.4 m apart, estimates 0.05 m and 0.3 m beside them (both within 0.5 m): the
+  // minimum total distance gives each person their own track.
   const HumanTrack a = walk(1, 0, 2, {0, 0, 1}, {0, 0, 0});
   const HumanTrack b = walk(2, 0, 2, {0.4, 0, 1}, {0, 0, 0});
-  HumanTrack ea = shifted(a, 5, {0.05, 0, 0}), eb = shifted(b, 6, {0.3, 0, 0});
-  std::swap(ea.points[1], eb.points[1]);  // frame 1: track 5 is at the second, track 6 at the first
-  const HumanMetrics m = evaluateHumanTracks({a, b}, {ea, eb});
+  const HumanMetrics m = evaluateHumanTracks({a, b}, {shifted(a, 5, {0.05, 0, 0}), shifted(b, 6, {0.3, 0, 0})});
   EXPECT_EQ(m.matched, 6);
-  EXPECT_EQ(m.people[0].id_switches, 2);  // 5 -> 6 -> 5
-  EXPECT_EQ(m.people[1].id_switches, 2);
+  EXPECT_EQ(m.id_switches, 0);
   EXPECT_EQ(m.people[0].track, 5);
+  EXPECT_EQ(m.people[1].track, 6);
   EXPECT_NEAR(m.people[0].error.max, 0.05, 1e-12);
   EXPECT_NEAR(m.people[1].error.max, 0.3, 1e-12);
+}
+
+TEST(HumanMetrics, APersonKeepsTheirTrackWhileItStaysNearAsClearMotDefines) {
+  // Two people walk through each other along x (frames 0-4). Each track follows its own person
+  // within 3 cm, but in frames 2 and 3, where the people are 2-20 cm apart, each track lies
+  // nearer the other person: matching by minimum distance alone would switch both twice. Person 1
+  // keeps track 5 and person 2 track 6 while those lie within 0.5 m of them: no switch.
+  HumanTrack a, b, ea, eb;
+  a.id = 1, b.id = 2, ea.id = 5, eb.id = 6;
+  const double ax[] = {0.0, 0.4, 0.50, 0.60, 1.0}, bx[] = {1.0, 0.6, 0.52, 0.40, 0.0};
+  const double eax[] = {0.0, 0.4, 0.53, 0.42, 1.0}, ebx[] = {1.0, 0.6, 0.49, 0.58, 0.0};
+  for (int i = 0; i < 5; ++i) {
+    const double t = kT0 + i / 30.0;
+    a.points.push_back({t, {ax[i], 0, 1}});
+    b.points.push_back({t, {bx[i], 0, 1}});
+    ea.points.push_back({t, {eax[i], 0, 1}});
+    eb.points.push_back({t, {ebx[i], 0, 1}});
+  }
+  const HumanMetrics m = evaluateHumanTracks({a, b}, {ea, eb});
+  EXPECT_EQ(m.matched, 10);
+  EXPECT_EQ(m.id_switches, 0);
+  EXPECT_EQ(m.people[0].track, 5);
+  EXPECT_NEAR(m.people[0].error.max, 0.18, 1e-12);  // frame 3: track 5 at 0.42, person 1 at 0.60
+
+  // A track that takes over the other person for good is a switch: track 5 jumps to person 2
+  // (1 m from person 1) in frame 4, track 6 ends there.
+  ea.points[4].p_w.x() = 0.0;
+  eb.points.pop_back();
+  const HumanMetrics swapped = evaluateHumanTracks({a, b}, {ea, eb});
+  EXPECT_EQ(swapped.people[1].id_switches, 1);  // 6 -> 5
+  EXPECT_EQ(swapped.people[0].matched, 4);      // nobody near person 1 in frame 4
 }
 
 }  // namespace

@@ -22,6 +22,47 @@ struct Match {
   Eigen::Vector3d offset;  // estimate - truth
 };
 
+// One frame's matching, as CLEAR MOT defines it: a person keeps the track matched to them in the
+// previous frame while that track's estimate lies within match_distance of them, even when
+// another estimate is nearer (two people passing each other must not count as two switches); the
+// other people and estimates are matched by minimum total distance. Returns, per truth, the index
+// of its estimate or -1.
+std::vector<int> matchFrame(const std::vector<Sample>& truths, const std::vector<Sample>& estimates,
+                            const std::map<int, int>& last_track, double match_distance) {
+  std::vector<int> match(truths.size(), -1);
+  std::vector<bool> taken(estimates.size(), false);
+  for (size_t g = 0; g < truths.size(); ++g) {
+    const auto last = last_track.find(truths[g].id);
+    if (last == last_track.end()) continue;
+    for (size_t e = 0; e < estimates.size(); ++e) {
+      if (!taken[e] && estimates[e].id == last->second &&
+          (estimates[e].p_w - truths[g].p_w).norm() <= match_distance) {
+        match[g] = static_cast<int>(e);
+        taken[e] = true;
+        break;
+      }
+    }
+  }
+  std::vector<size_t> free_truths, free_estimates;
+  for (size_t g = 0; g < truths.size(); ++g) {
+    if (match[g] < 0) free_truths.push_back(g);
+  }
+  for (size_t e = 0; e < estimates.size(); ++e) {
+    if (!taken[e]) free_estimates.push_back(e);
+  }
+  std::vector<std::vector<double>> cost(free_truths.size(), std::vector<double>(free_estimates.size()));
+  for (size_t g = 0; g < free_truths.size(); ++g) {
+    for (size_t e = 0; e < free_estimates.size(); ++e) {
+      cost[g][e] = (estimates[free_estimates[e]].p_w - truths[free_truths[g]].p_w).norm();
+    }
+  }
+  const std::vector<int> free_match = solveAssignment(cost, match_distance);
+  for (size_t g = 0; g < free_truths.size(); ++g) {
+    if (free_match[g] >= 0) match[free_truths[g]] = static_cast<int>(free_estimates[free_match[g]]);
+  }
+  return match;
+}
+
 }  // namespace
 
 HumanMetrics evaluateHumanTracks(const std::vector<HumanTrack>& ground_truth,
@@ -55,18 +96,17 @@ HumanMetrics evaluateHumanTracks(const std::vector<HumanTrack>& ground_truth,
 
   // Per ground-truth person, in time order: the match of each of their frames, if any.
   std::map<int, std::vector<std::optional<Match>>> history;
+  std::map<int, int> last_track;  // ground-truth id -> track matched in the previous frame
   for (const auto& [stamp, truths] : truth_at) {
     const std::vector<Sample>& estimates = estimate_at[stamp];
-    std::vector<std::vector<double>> cost(truths.size(), std::vector<double>(estimates.size()));
-    for (size_t g = 0; g < truths.size(); ++g) {
-      for (size_t e = 0; e < estimates.size(); ++e) cost[g][e] = (estimates[e].p_w - truths[g].p_w).norm();
-    }
-    const std::vector<int> match = solveAssignment(cost, options.match_distance);
+    const std::vector<int> match = matchFrame(truths, estimates, last_track, options.match_distance);
     int matched_here = 0;
+    last_track.clear();
     for (size_t g = 0; g < truths.size(); ++g) {
       std::optional<Match> m;
       if (match[g] >= 0) {
         m = Match{estimates[match[g]].id, estimates[match[g]].p_w - truths[g].p_w};
+        last_track[truths[g].id] = m->track;
         ++matched_here;
       }
       history[truths[g].id].push_back(m);

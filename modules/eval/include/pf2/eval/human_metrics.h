@@ -4,8 +4,10 @@
 // & Nevatia 2009 count them).
 //
 // Per ground-truth frame (a timestamp of the ground truth), the estimated centres of that frame
-// (stamps within max_time_difference) are matched to the ground-truth positions by minimum total
-// distance, pairs farther than match_distance excluded. Then, per ground-truth person:
+// (stamps within max_time_difference) are matched to the ground-truth positions as CLEAR MOT does:
+// a person keeps last frame's track while its centre lies within match_distance of them; the rest
+// are matched by minimum total distance, pairs farther than match_distance excluded. Then, per
+// ground-truth person:
 //   matched / frames     recall of person-frames;
 //   id switches          the matched track id differs from the one matched last time;
 //   fragmentations       the person is matched again after frames of theirs without a match;
