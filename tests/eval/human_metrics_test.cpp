@@ -97,10 +97,10 @@ TEST(HumanMetrics, OptimalAssignmentBetweenTwoPeople) {
 }
 
 TEST(HumanMetrics, APersonKeepsTheirTrackWhileItStaysNearAsClearMotDefines) {
-  // Two people walk through each other along x (frames 0-4). Each track follows its own person
-  // within 3 cm, but in frames 2 and 3, where the people are 2-20 cm apart, each track lies
-  // nearer the other person: matching by minimum distance alone would switch both twice. Person 1
-  // keeps track 5 and person 2 track 6 while those lie within 0.5 m of them: no switch.
+  // Two people walk through each other along x (frames 0-4), each followed by a track. In frames 2
+  // and 3, where the people are 2-20 cm apart, each track lies nearer the other person (in frame
+  // 3 on them): matching by minimum distance alone would switch both twice. Person 1 keeps track 5
+  // and person 2 track 6 while those lie within 0.5 m of them: no switch.
   HumanTrack a, b, ea, eb;
   a.id = 1, b.id = 2, ea.id = 5, eb.id = 6;
   const double ax[] = {0.0, 0.4, 0.50, 0.60, 1.0}, bx[] = {1.0, 0.6, 0.52, 0.40, 0.0};
