@@ -196,6 +196,28 @@ TEST(HumanTracker, ReidentifiesAPersonWhoseLastCentreWasAStrayOne) {
   EXPECT_EQ(tracker.resolvedId(2), 1);
 }
 
+// A person in red walks alone, then someone in blue stands 0.3 m beside them for a second, and
+// the red person's detection shows the blue one's colours (one detection for the two). With
+// appearance_crowd, the red track does not learn them: back after 3 s unseen, the red person is
+// re-identified. Without it the red track has turned blue, and the red person is someone new.
+TEST(HumanTracker, ACentreBesideAnotherTracksPredictionLeavesItsAppearanceAsItWas) {
+  const PersonAppearance red = colouredPerson({40, 40, 200}), blue = colouredPerson({200, 60, 40});
+  for (const double crowd : {0.6, 0.0}) {
+    HumanTracker::Options options;
+    options.appearance_crowd = crowd;
+    HumanTracker tracker(options);
+    for (int f = 0; f < 30; ++f) tracker.update(f / kRate, {{0, 0, 2}}, {red});
+    for (int f = 30; f < 60; ++f) {
+      EXPECT_EQ(tracker.update(f / kRate, {{0, 0, 2}, {0.3, 0, 2}}, {blue, blue}), (std::vector<int>{1, 2}));
+    }
+    for (int f = 60; f < 150; ++f) tracker.update(f / kRate, {});
+    ASSERT_EQ(tracker.liveTracks(), 0);
+    std::vector<int> ids;
+    for (int f = 150; f < 150 + tracker.options().reid_after; ++f) ids = tracker.update(f / kRate, {{1.0, 0, 2}}, {red});
+    EXPECT_EQ(ids, std::vector<int>{crowd > 0 ? 1 : 3}) << "appearance_crowd " << crowd;
+  }
+}
+
 // Two people side by side whose measured centres jitter across each other for a frame: by
 // position alone the tracks swap them, with their appearances each keeps their own.
 TEST(HumanTracker, AppearanceKeepsTwoPeopleApartWherePositionsCross) {

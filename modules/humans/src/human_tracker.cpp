@@ -177,6 +177,14 @@ void HumanTracker::reidentifyNewTracks(double timestamp, std::vector<int>* ids) 
   }
 }
 
+bool HumanTracker::crowded(size_t taker, const Eigen::Vector3d& centre_w,
+                           const std::vector<Eigen::Vector3d>& predicted) const {
+  for (size_t l = 0; l < predicted.size(); ++l) {
+    if (l != taker && (predicted[l] - centre_w).norm() < options_.appearance_crowd) return true;
+  }
+  return false;
+}
+
 size_t HumanTracker::confirmedCentres() const { return static_cast<size_t>(std::max(1, options_.reid_after)); }
 
 bool HumanTracker::confirmed(size_t track) const { return tracks_[track].points.size() >= confirmedCentres(); }
@@ -198,12 +206,15 @@ std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen:
                                        : associatePredicted(timestamp, centres_w, appearances);
   std::vector<int> ids(centres_w.size());
   std::vector<bool> seen(live_.size(), false);
+  std::vector<Eigen::Vector3d> predicted;  // before any track takes this frame's centre
+  for (const Live& live : live_) predicted.push_back(predict(live, timestamp));
   for (size_t c = 0; c < centres_w.size(); ++c) {
     if (live_of[c] < 0) continue;
     Live& live = live_[live_of[c]];
     seen[live_of[c]] = true;
     live.missed = 0;
-    observe(live.track, timestamp, centres_w[c], appearance(c));
+    const bool mixed = crowded(static_cast<size_t>(live_of[c]), centres_w[c], predicted);
+    observe(live.track, timestamp, centres_w[c], mixed ? PersonAppearance() : appearance(c));
     ids[c] = tracks_[live.track].id;
   }
   ageUnseen(seen);

@@ -189,6 +189,8 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "a person unseen this long can be re-identified by appearance and position (0 = never)");
   s.number("humans.appearance_weight", &h.appearance_weight, 0.0, 10.0, "",
            "association cost per unit of appearance dissimilarity (0 = position only)");
+  s.number("humans.appearance_crowd", &h.appearance_crowd, 0.0, 10.0, "metres",
+           "a centre this near another live track's prediction does not update its track's appearance (0 = always)");
   s.number("humans.reid_similarity", &h.reid_similarity, 0.0, 1.0, "",
            "colour-histogram similarity (Bhattacharyya coefficient) needed to re-identify a person");
   s.integer("humans.reid_after", &h.reid_after, 1, 1000, "frames",
