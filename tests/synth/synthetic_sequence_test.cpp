@@ -275,19 +275,54 @@ std::uint64_t sequenceFingerprint(const SyntheticSequence& sequence) {
   return hash;
 }
 
-// Sequences made without close people are those of the code before the option existed: these
+// Sequences made without close people and with people free to walk through each other
+// (crowd.min_separation 0) are those of the code before either option existed: these
 // fingerprints were taken from that code (GCC 12, x86-64). Floating-point results of another
 // compiler or maths library may differ; then regenerate them from a build of that older code.
-TEST(SyntheticSequence, WithoutClosePeopleTheOutputIsUnchanged) {
+TEST(SyntheticSequence, WithoutClosePeopleOrSeparationTheOutputIsUnchanged) {
   SyntheticSequence::Options options = smallOptions(300, 3);
+  options.crowd.min_separation = 0.0;
   EXPECT_EQ(sequenceFingerprint(SyntheticSequence(options)), 0x6d82f5eb5cef14c4ULL) << "seed 1, 3 people, xyz";
   options = smallOptions(300, 5);
+  options.crowd.min_separation = 0.0;
   options.seed = 2;
   options.camera = CameraMotion::kLoop;
   options.sensor.noise = true;
   options.motion_blur = true;
   EXPECT_EQ(sequenceFingerprint(SyntheticSequence(options)), 0xa163405c29701bf9ULL)
       << "seed 2, 5 people, loop, noise, blur";
+}
+
+// The smallest floor distance between two people's pelvises over every frame of `sequence`, metres.
+double nearestPelvises(const SyntheticSequence& sequence) {
+  double nearest = 1e9;
+  for (size_t i = 0; i < sequence.size(); ++i) {
+    const std::vector<BodyMesh> bodies = sequence.bodies(i);
+    for (size_t a = 0; a < bodies.size(); ++a) {
+      for (size_t b = a + 1; b < bodies.size(); ++b) {
+        nearest = std::min(nearest, (bodies[a].joints[0] - bodies[b].joints[0]).head<2>().norm());
+      }
+    }
+  }
+  return nearest;
+}
+
+// People do not walk through each other: three people on seeds 1-8 keep crowd.min_separation
+// (0.6 m) between their pelvises, up to how the gait sways the pelvis; free to (min_separation 0),
+// people of these seeds come within 0.3 m of each other. (Close crossings and the walks to them
+// are not kept apart: see Crowd::Options.)
+TEST(SyntheticSequence, PeopleKeepTheirSeparation) {
+  double nearest_free = 1e9;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    SyntheticSequence::Options options = smallOptions(300, 3);
+    options.seed = seed;
+    const double nearest = nearestPelvises(SyntheticSequence(options));
+    std::printf("seed %d: nearest pelvises %.3f m\n", static_cast<int>(seed), nearest);
+    EXPECT_GE(nearest, 0.55) << "seed " << seed;
+    options.crowd.min_separation = 0.0;
+    nearest_free = std::min(nearest_free, nearestPelvises(SyntheticSequence(options)));
+  }
+  EXPECT_LT(nearest_free, 0.3);
 }
 
 // What close people do to the view, measured on the ground-truth labels of every `step`-th frame.
@@ -381,6 +416,11 @@ TEST(SyntheticSequence, RejectsBadOptions) {
   EXPECT_THROW(SyntheticSequence{options}, Error);
   options.crowd.close.min_distance = 0.7;
   options.crowd.close.max_bend = 1.0;
+  EXPECT_THROW(SyntheticSequence{options}, Error);
+  options = smallOptions(10, 2);
+  options.crowd.min_separation = -0.1;
+  EXPECT_THROW(SyntheticSequence{options}, Error);
+  options.crowd.min_separation = 2.5;
   EXPECT_THROW(SyntheticSequence{options}, Error);
   const SyntheticSequence sequence(smallOptions(2, 0));
   EXPECT_THROW(sequence.frame(2), Error);

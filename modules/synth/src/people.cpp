@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -193,9 +194,17 @@ const Eigen::Vector4d kCrossingFloor(0.5, 0.95, 5.5, 3.2);
 // Random actions tried between two crossings of one person; those that would make it late or bring
 // it close in front of the camera are dropped.
 constexpr int kFillAttempts = 12;
+// Random actions tried that would bring a person nearer than min_separation to someone.
+constexpr int kApartAttempts = 40;
 // Away from crossings a person keeps out of the close zone in front of the camera; checked this
 // often along its script, seconds.
 constexpr double kClearanceStep = 0.2;
+// People keep apart: checked this often along a new action, seconds (two people walking towards
+// each other close 0.25 m in that time).
+constexpr double kSeparationStep = 0.1;
+// A new action also keeps the person apart this long after it ends, standing where it ended, so
+// that the next action is not too late to get out of someone's way: seconds.
+constexpr double kApartLookahead = 1.0;
 // Half the width of a person seen from any side, arms included: metres.
 constexpr double kBodyHalfWidth = 0.4;
 // The height at which a person is tested against the view: the chest, metres.
@@ -314,6 +323,28 @@ class Crowd::ScriptWriter {
     return it->from + alpha * (it->to - it->from);
   }
 
+  // Where on the floor the person's pelvis is at time t seconds: as positionAt, but on the chair
+  // while sitting (sitting down and standing up move it between the chair and its front edge).
+  Eigen::Vector2d pelvisAt(double t) const {
+    const auto it = std::upper_bound(script_.begin(), script_.end(), t,
+                                     [](double value, const Segment& s) { return value < s.t1; });
+    if (it == script_.end()) return position_;
+    const double alpha = it->t1 > it->t0 ? std::min(1.0, std::max(0.0, (t - it->t0) / (it->t1 - it->t0))) : 1.0;
+    switch (it->kind) {
+      case Segment::Kind::kWalk: case Segment::Kind::kSitDown:
+        return it->from + alpha * (it->to - it->from);
+      case Segment::Kind::kSit:
+        return it->to;
+      case Segment::Kind::kStandUp: {
+        // A script's first segment may be the rise from the chair (nothing before it): then from.
+        const Eigen::Vector2d seat = it == script_.begin() ? it->from : std::prev(it)->to;
+        return seat + alpha * (it->to - seat);
+      }
+      default:
+        return it->from;
+    }
+  }
+
   Segment* add(Segment::Kind kind, double duration, const Eigen::Vector2d& to, double yaw1) {
     Segment s;
     s.kind = kind;
@@ -371,12 +402,16 @@ class Crowd::ScriptPlanner {
       : options_(options), scene_(scene), camera_(camera), area_(scene.walkableArea()) {}
 
   // Where person k starts: a random point and heading; person 1 may start seated at the desk.
-  ScriptWriter start(int k, double speed, HashRng* rng) const {
+  ScriptWriter start(int k, double speed, const std::vector<ScriptWriter>& earlier, HashRng* rng) const {
     Eigen::Vector2d position = randomPoint(rng);
-    // With close crossings nobody starts in the close zone (the draws of other sequences stay as they were).
-    for (int redraw = 0; options_.close.enabled && redraw < 20 && !standsClear(position, 0.0, 2.0); ++redraw) {
-      position = randomPoint(rng);
-    }
+    // Nobody starts where an earlier person comes within min_separation in the first two seconds
+    // (as far as their script is written), and with close crossings nobody starts in the close
+    // zone (the draws of other sequences stay as they were).
+    const auto clear = [&](const Eigen::Vector2d& p) {
+      return (!options_.close.enabled || standsClear(p, 0.0, 2.0)) &&
+             keepsApart(ScriptWriter(p, 0.0, 1.0), k, earlier, 0.0, 2.0);
+    };
+    for (int redraw = 0; redraw < 20 && !clear(position); ++redraw) position = randomPoint(rng);
     ScriptWriter writer(position, rng->uniform(-kPi, kPi), speed);
     // With close crossings and one person, that person crosses from the start instead.
     const bool alone_crossing = options_.close.enabled && options_.people == 1;
@@ -392,23 +427,60 @@ class Crowd::ScriptPlanner {
     return writer;
   }
 
-  // Random actions until the script reaches `time` seconds; with close crossings only those that
-  // keep the person out of the close zone (else it stands still for half a second).
-  void addRandomActionsUntil(double time, int k, HashRng* rng, ScriptWriter* writer) const {
-    while (writer->time() < time) {
-      if (!options_.close.enabled) {
-        addRandomAction(k, rng, writer);
-        continue;
+  // Random actions of person k until its script reaches `time` seconds (see addFittingAction; when
+  // none fits, the person stands still for half a second).
+  void addRandomActionsUntil(double time, int k, HashRng* rng, std::vector<ScriptWriter>* writers) const {
+    ScriptWriter& writer = (*writers)[k];
+    while (writer.time() < time) {
+      if (!addFittingAction(k, rng, writers)) {
+        writer.add(Segment::Kind::kStand, 0.5, writer.position(), writer.yaw());
       }
-      bool added = false;
-      for (int attempt = 0; attempt < kFillAttempts && !added; ++attempt) {
-        ScriptWriter trial = *writer;
-        addRandomAction(k, rng, &trial);
-        added = trial.time() > writer->time() && keepsClear(trial, writer->time(), trial.time());
-        if (added) *writer = trial;
-      }
-      if (!added) writer->add(Segment::Kind::kStand, 0.5, writer->position(), writer->yaw());
     }
+  }
+
+  // Walks person k 0.8 or 1.6 m away from where its script ends, in the first of eight directions
+  // (starting straight ahead) that fits (keeps it apart from the others and out of the close zone);
+  // false when none does. The way out when someone walks through the spot where no random action fitted.
+  bool stepAside(int k, std::vector<ScriptWriter>* writers) const {
+    ScriptWriter& writer = (*writers)[k];
+    for (const double distance : {0.8, 1.6}) {
+      for (int i = 0; i < 8; ++i) {
+        const double heading = writer.yaw() + i * kPi / 4.0;
+        const Eigen::Vector2d target =
+            clampToFloor(writer.position() + distance * Eigen::Vector2d(std::cos(heading), std::sin(heading)), area_);
+        ScriptWriter trial = writer;
+        trial.walkTo(target);
+        if (trial.time() > writer.time() && fits(trial, k, *writers, writer.time(), trial.time())) {
+          writer = trial;
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  // Adds to person k's script a random action that keeps it min_separation away from the others
+  // as far as their scripts are written and, with close crossings, out of the close zone. Tries
+  // kFillAttempts actions that break the close zone and kApartAttempts that come too near someone
+  // (then steps aside); false when nothing fits. Without close crossings, an action that adds
+  // nothing (a walk shorter than 0.6 m) is no attempt, so sequences without near people keep their draws.
+  bool addFittingAction(int k, HashRng* rng, std::vector<ScriptWriter>* writers) const {
+    ScriptWriter& writer = (*writers)[k];
+    int zone_misses = 0, crowd_misses = 0;
+    while (zone_misses < kFillAttempts && crowd_misses < kApartAttempts) {
+      ScriptWriter trial = writer;
+      addRandomAction(k, rng, &trial);
+      const bool moved = trial.time() > writer.time();
+      if (!moved || (options_.close.enabled && !keepsClear(trial, writer.time(), trial.time()))) {
+        zone_misses += options_.close.enabled ? 1 : 0;
+      } else if (!keepsApart(trial, k, *writers, writer.time(), trial.time())) {
+        ++crowd_misses;
+      } else {
+        writer = trial;
+        return true;
+      }
+    }
+    return crowd_misses >= kApartAttempts && stepAside(k, writers);
   }
 
   // The close crossings of the whole sequence, in time order: each starts a random pause after the
@@ -452,11 +524,13 @@ class Crowd::ScriptPlanner {
 
   // Random actions that leave the person time to reach the crossing's start and keep it out of
   // the close zone until then, then the crossing.
-  void addCrossing(const PlannedCrossing& crossing, HashRng* rng, ScriptWriter* writer) const {
+  void addCrossing(const PlannedCrossing& crossing, HashRng* rng, std::vector<ScriptWriter>* writers) const {
+    ScriptWriter* writer = &(*writers)[crossing.person];
     for (int attempt = 0; attempt < kFillAttempts; ++attempt) {
       ScriptWriter trial = *writer;
       addRandomAction(crossing.person, rng, &trial);
-      if (arrival(crossing, trial) <= crossing.start && keepsClear(trial, writer->time(), crossing.start)) {
+      if (arrival(crossing, trial) <= crossing.start &&
+          fits(trial, crossing.person, *writers, writer->time(), crossing.start)) {
         *writer = trial;
       }
     }
@@ -498,6 +572,27 @@ class Crowd::ScriptPlanner {
       if (!clearOfCloseZone(script.positionAt(t), t)) return false;
     }
     return true;
+  }
+
+  // Whether person k, following `script`, keeps min_separation from every other person of
+  // `writers` from `from` to kApartLookahead past `until` seconds, as far as their scripts are written.
+  bool keepsApart(const ScriptWriter& script, int k, const std::vector<ScriptWriter>& writers, double from,
+                  double until) const {
+    if (!(options_.min_separation > 0.0)) return true;
+    for (double t = from; t <= until + kApartLookahead; t += kSeparationStep) {
+      for (size_t j = 0; j < writers.size(); ++j) {
+        if (static_cast<int>(j) == k || t > writers[j].time()) continue;
+        if ((script.pelvisAt(t) - writers[j].pelvisAt(t)).norm() < options_.min_separation) return false;
+      }
+    }
+    return true;
+  }
+
+  // Whether an action of person k written into `trial` may stay: apart from the others and, with
+  // close crossings, out of the close zone from `from` to `until` seconds.
+  bool fits(const ScriptWriter& trial, int k, const std::vector<ScriptWriter>& writers, double from,
+            double until) const {
+    return (!options_.close.enabled || keepsClear(trial, from, until)) && keepsApart(trial, k, writers, from, until);
   }
 
   // Sit down on the own chair (people 1 and 2), stand still, or walk to a point: close in front of
@@ -711,25 +806,33 @@ Crowd::Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<c
     throw Error("walking speeds must be positive, min_speed <= max_speed");
   }
   if (options.people > 0 && !model_) throw Error("people need a body model");
+  if (!(options.min_separation >= 0.0 && options.min_separation <= 2.0)) {
+    throw Error("min_separation must lie in 0 .. 2 m");
+  }
   checkCloseCrossings(options.close, camera);
   const ScriptPlanner planner(options_, scene, camera);
+  // Each person draws from an own stream: shape and clothes, start, actions.
   std::vector<HashRng> rngs;
-  std::vector<ScriptWriter> writers;
   for (int k = 0; k < options.people; ++k) {
     rngs.emplace_back(synth::hashOf(options.seed, static_cast<std::uint64_t>(k), 0x9e0931e));
     people_.push_back(makePerson(*model_, options, &rngs[k]));
-    writers.push_back(planner.start(k, people_[k].speed, &rngs[k]));
   }
+  std::vector<ScriptWriter> writers;
   if (options.close.enabled) {
+    // Crossings are planned from everyone's start.
+    for (int k = 0; k < options.people; ++k) writers.push_back(planner.start(k, people_[k].speed, writers, &rngs[k]));
     for (const PlannedCrossing& crossing : planner.planCrossings(&writers)) {
-      planner.addCrossing(crossing, &rngs[crossing.person], &writers[crossing.person]);
+      planner.addCrossing(crossing, &rngs[crossing.person], &writers);
     }
   }
   for (int k = 0; k < options.people; ++k) {
+    // Without close crossings a person starts clear of the scripts written before theirs.
+    if (!options.close.enabled) writers.push_back(planner.start(k, people_[k].speed, writers, &rngs[k]));
     // The scripts run 2 s past the end, so that the blur's exposure never runs out of script.
-    planner.addRandomActionsUntil(options.duration + 2.0, k, &rngs[k], &writers[k]);
-    people_[k].script = writers[k].release();
+    planner.addRandomActionsUntil(options.duration + 2.0, k, &rngs[k], &writers);
   }
+  // Released only now: the people written after k keep apart from k's script.
+  for (int k = 0; k < options.people; ++k) people_[k].script = writers[k].release();
   seats_ = scene.seats();
 }
 

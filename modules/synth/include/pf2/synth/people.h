@@ -1,10 +1,11 @@
 #pragma once
 // The people of the synthetic sequences: each has a body shape, clothing colours and a script
 // (walk between points of the free floor, turn to the new heading, stand for a while, sit down on
-// a chair and get up again), generated from the seed. The gait is kinematic: hips, knees and
-// ankles flex with the gait phase (phase advances with the distance walked, so feet do not skate
-// much), arms swing opposite to the legs, the pelvis and spine counter-rotate, and the body is
-// kept on the floor, which gives the vertical bob.
+// a chair and get up again), generated from the seed. People keep out of each other's way: each
+// action of a person's script keeps clear of the people whose scripts were written before. The
+// gait is kinematic: hips, knees and ankles flex with the gait phase (phase advances with the
+// distance walked, so feet do not skate much), arms swing opposite to the legs, the pelvis and
+// spine counter-rotate, and the body is kept on the floor, which gives the vertical bob.
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -68,6 +69,9 @@ class Crowd {
     double leave_view_probability = 0.2;   // a walk ends out of view at the room's sides
     double middle_probability = 0.35;      // a walk ends in the middle of the view (else anywhere)
     bool first_person_seated = true;       // person 1 sits at the desk when the sequence starts
+    double min_separation = 0.6;           // floor distance people keep between their pelvises, metres,
+                                           // 0 .. 2 (0: they may walk through each other, as before);
+                                           // close crossings and the walks to them are not kept apart
     CloseCrossings close;                  // when enabled, walks between crossings never end close
                                            // in front of the camera (close_pass_probability unused)
   };
@@ -84,8 +88,8 @@ class Crowd {
     BodyMesh mesh;
   };
 
-  // Throws pf2::Error when people > 5 or < 0, on invalid close-crossing settings, and when close
-  // crossings are enabled without camera.pose_at.
+  // Throws pf2::Error when people > 5 or < 0, min_separation is outside 0 .. 2, on invalid
+  // close-crossing settings, and when close crossings are enabled without camera.pose_at.
   Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<const BodyModel> model,
         const CameraPath& camera);
   Crowd(const Options& options, const StaticScene& scene, std::shared_ptr<const BodyModel> model);
