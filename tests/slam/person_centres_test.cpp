@@ -104,5 +104,36 @@ TEST(BodyDepth, KeepsOnlyTheDepthsOfTheBodyTheKeypointsLieOn) {
   EXPECT_EQ(bodyDepthOf(scene, off).data, scene.person.depth.data);
 }
 
+// One body seen as two people: the centre of a person behind a near one, whose depths were the
+// near one's, lies beside the near one's centre.
+TEST(PersonCentres, OfTwoCentresOfOneBodyTheOneOnFewerDepthsIsDropped) {
+  DualBBoxFilter::Result filtered;
+  filtered.static_depth = cv::Mat::zeros(480, 640, CV_32F);
+  const auto add = [&filtered](float x_ul, float y_ul, float x_lr, float y_lr, float depth) {
+    DualBBoxFilter::Person person;
+    person.box = {x_ul, y_ul, x_lr, y_lr};
+    person.area = cv::Rect(cv::Point(cvRound(x_ul), cvRound(y_ul)), cv::Point(cvRound(x_lr), cvRound(y_lr)));
+    person.depth = cv::Mat(person.area.size(), CV_32F, cv::Scalar(depth));
+    filtered.people.push_back(person);
+  };
+  add(200, 0, 440, 480, 1.0f);    // the near person, 240 x 480 depths at 1 m
+  add(150, 100, 230, 400, 1.0f);  // the one behind, at the near one's depth: centres 0.244 m apart
+  add(500, 100, 600, 400, 3.0f);  // someone else, 3 m away
+  const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
+  SlamOptions options;
+  const auto kept = [&](double same_body) {
+    options.human_same_body = same_body;
+    std::vector<size_t> people;
+    for (const PersonCentre& centre : personCentres(filtered, Detections(), K, options)) people.push_back(centre.person);
+    return people;
+  };
+  EXPECT_EQ(kept(0.0), (std::vector<size_t>{0, 1, 2}));
+  EXPECT_EQ(kept(0.2), (std::vector<size_t>{0, 1, 2}));
+  EXPECT_EQ(kept(0.3), (std::vector<size_t>{0, 2}));
+  // The larger one stays whichever comes first.
+  std::swap(filtered.people[0], filtered.people[1]);
+  EXPECT_EQ(kept(0.3), (std::vector<size_t>{1, 2}));
+}
+
 }  // namespace
 }  // namespace pf2

@@ -64,6 +64,26 @@ cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& ban
   return own;
 }
 
+namespace {
+
+// `centres` less each one within `same_body` metres of another resting on more depths (ties: the
+// earlier one stays).
+std::vector<PersonCentre> withoutSecondViews(const std::vector<PersonCentre>& centres, double same_body) {
+  if (!(same_body > 0.0)) return centres;
+  std::vector<PersonCentre> kept;
+  for (size_t i = 0; i < centres.size(); ++i) {
+    bool second = false;
+    for (size_t j = 0; j < centres.size() && !second; ++j) {
+      const bool larger = centres[j].pixels > centres[i].pixels || (centres[j].pixels == centres[i].pixels && j < i);
+      second = j != i && larger && (centres[j].p_c - centres[i].p_c).norm() < same_body;
+    }
+    if (!second) kept.push_back(centres[i]);
+  }
+  return kept;
+}
+
+}  // namespace
+
 // Box centre at d_m (eq. 2). People whose depths cover less than human_min_area of the image get no
 // centre: a sliver of a person gives a box centre far from the body.
 std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
@@ -76,13 +96,12 @@ std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, 
     const PersonDetection* detection = detected ? &detections.people[person.detection] : nullptr;
     PersonCentre centre;
     centre.person = index;
-    long pixels = 0;
-    const double d_m = personCentreDepth(person, detection, options, &pixels, &centre.band);
-    if (pixels == 0 || pixels < min_pixels) continue;
+    const double d_m = personCentreDepth(person, detection, options, &centre.pixels, &centre.band);
+    if (centre.pixels == 0 || centre.pixels < min_pixels) continue;
     centre.p_c = humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr, person.box.y_lr, d_m, K);
     centres.push_back(centre);
   }
-  return centres;
+  return withoutSecondViews(centres, options.human_same_body);
 }
 
 }  // namespace pf2

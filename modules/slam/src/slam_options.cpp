@@ -174,6 +174,8 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.number("humans.joint_min_share", &o.human_joint_min_share, 0.0, 1.0, "fraction",
            "humans.joint_band applies when at least this share of the person's depths lie in it");
   s.number("humans.min_area", &o.human_min_area, 0.0, 1.0, "fraction", "no centre for a person covering less of the image");
+  s.number("humans.same_body", &o.human_same_body, 0.0, 2.0, "metres",
+           "of two centres of one frame this near each other, the one on fewer depths is dropped (one body; 0 = off)");
   s.integer("humans.min_frames", &o.human_min_frames, 1, 100000, "frames",
             "a track seen in fewer frames is left out of humans.txt and humans.json (a false detection)");
   s.custom("humans.association",

@@ -52,10 +52,11 @@ struct PersonCentre {
   size_t person = 0;      // index into the filter's people
   Eigen::Vector3d p_c;    // camera frame, metres
   BodyDepthBand band;     // of personCentreDepth, for the body fit
+  long pixels = 0;        // depths d_m rests on
 };
 
-// Eq. 2 for each of filtered.people with at least human_min_area of the image's pixels in depth.
-// Thread safe.
+// Eq. 2 for each of filtered.people with at least human_min_area of the image's pixels in depth,
+// less those within human_same_body of a centre resting on more depths. Thread safe.
 std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
                                         const CameraIntrinsics& K, const SlamOptions& options);
 
