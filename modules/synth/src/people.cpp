@@ -315,8 +315,7 @@ class Crowd::ScriptWriter {
   // Where on the floor the person is at time t seconds (at the end of the script after it ends);
   // sitting counts as being at the chair's front edge.
   Eigen::Vector2d positionAt(double t) const {
-    const auto it = std::upper_bound(script_.begin(), script_.end(), t,
-                                     [](double value, const Segment& s) { return value < s.t1; });
+    const auto it = segmentAt(t);
     if (it == script_.end()) return position_;
     if (it->kind != Segment::Kind::kWalk || !(it->t1 > it->t0)) return it->from;
     const double alpha = std::max(0.0, (t - it->t0) / (it->t1 - it->t0));
@@ -326,8 +325,7 @@ class Crowd::ScriptWriter {
   // Where on the floor the person's pelvis is at time t seconds: as positionAt, but on the chair
   // while sitting (sitting down and standing up move it between the chair and its front edge).
   Eigen::Vector2d pelvisAt(double t) const {
-    const auto it = std::upper_bound(script_.begin(), script_.end(), t,
-                                     [](double value, const Segment& s) { return value < s.t1; });
+    const auto it = segmentAt(t);
     if (it == script_.end()) return position_;
     const double alpha = it->t1 > it->t0 ? std::min(1.0, std::max(0.0, (t - it->t0) / (it->t1 - it->t0))) : 1.0;
     switch (it->kind) {
@@ -343,6 +341,12 @@ class Crowd::ScriptWriter {
       default:
         return it->from;
     }
+  }
+
+  // The segment running at time t seconds (end() after the script ends).
+  std::vector<Segment>::const_iterator segmentAt(double t) const {
+    return std::upper_bound(script_.begin(), script_.end(), t,
+                            [](double value, const Segment& s) { return value < s.t1; });
   }
 
   Segment* add(Segment::Kind kind, double duration, const Eigen::Vector2d& to, double yaw1) {
