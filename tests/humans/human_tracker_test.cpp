@@ -88,7 +88,7 @@ TEST(HumanTracker, GateStartsNewTracksForFarCentres) {
   HumanTracker tracker;
   const int n = tracker.options().reid_after;  // centres that make a track a person
   for (int f = 0; f < n; ++f) EXPECT_EQ(tracker.update(f / kRate, {{0, 0, 1}}), std::vector<int>{1});
-  // 2 m away one frame later: beyond the 1 m (+ 1 m/s x 1/30 s) gate, so a new person.
+  // 2 m away one frame later: beyond the 0.5 m (+ 1 m/s x 1/30 s) gate, so a new person.
   EXPECT_EQ(tracker.update(n / kRate, {{2, 0, 1}}), std::vector<int>{2});
   // The first is still alive and takes a centre near it again; the second too.
   EXPECT_EQ(tracker.update((n + 1) / kRate, {{2.05, 0, 1}, {0.1, 0, 1}}), (std::vector<int>{2, 1}));
@@ -97,6 +97,32 @@ TEST(HumanTracker, GateStartsNewTracksForFarCentres) {
   EXPECT_EQ(tracker.liveTracks(), 1);
   tracker.reset();
   EXPECT_EQ(tracker.update((n + 3) / kRate, {{0, 0, 1}}), std::vector<int>{1});
+}
+
+// A person stands still; someone walks in 0.7 m in front of them and hides them for half a
+// second. Within the 0.5 m gate the walker is someone new and the standing person keeps their id
+// when seen again; with a 1 m gate the standing person's track moves onto the walker.
+TEST(HumanTracker, AHiddenPersonsTrackDoesNotMoveOntoWhoeverHidesThem) {
+  for (const double gate : {0.5, 1.0}) {
+    HumanTracker::Options options;
+    options.gate = gate;
+    HumanTracker tracker(options);
+    for (int f = 0; f < 30; ++f) tracker.update(f / kRate, {{0, 0, 3}});
+    const Eigen::Vector3d walker_start(-0.3, 0, 2.35);  // 0.72 m from the standing person
+    std::vector<int> walker_ids;
+    for (int f = 30; f < 45; ++f) {
+      walker_ids = tracker.update(f / kRate, {walker_start + Eigen::Vector3d(0.04 * (f - 30), 0, 0)});
+    }
+    const std::vector<int> ids =
+        tracker.update(45 / kRate, {walker_start + Eigen::Vector3d(0.6, 0, 0), Eigen::Vector3d(0, 0, 3)});
+    if (gate < 1.0) {
+      EXPECT_EQ(walker_ids, std::vector<int>{2});
+      EXPECT_EQ(ids, (std::vector<int>{2, 1}));
+    } else {
+      EXPECT_EQ(walker_ids, std::vector<int>{1});
+      EXPECT_EQ(ids, (std::vector<int>{1, 2}));
+    }
+  }
 }
 
 // An image of two people, one in red, one in blue, for their appearances.
@@ -229,7 +255,7 @@ TEST(HumanTracker, AppearanceKeepsTwoPeopleApartWherePositionsCross) {
     for (int f = 0; f < 20; ++f) {
       ASSERT_EQ(tracker.update(f / kRate, {{0.0, 0, 2}, {0.4, 0, 2}}, {red, blue}), (std::vector<int>{1, 2}));
     }
-    const std::vector<int> ids = tracker.update(20 / kRate, {{0.35, 0, 2}, {0.05, 0, 2}}, {red, blue});
+    const std::vector<int> ids = tracker.update(20 / kRate, {{0.25, 0, 2}, {0.15, 0, 2}}, {red, blue});
     EXPECT_EQ(ids, weight > 0 ? (std::vector<int>{1, 2}) : (std::vector<int>{2, 1})) << "weight " << weight;
   }
 }

@@ -45,7 +45,12 @@ class HumanTracker {
   struct Options {
     Association association = Association::kPredicted;
     // --- kPredicted only ---
-    double gate = 1.0;              // metres between a track's prediction and a centre it may take
+    // Metres between a track's prediction and a centre it may take. 0.5: of the centres the
+    // tracks took on 15 pf2_synth runs, those of the track's own person lay at most 0.30 m from
+    // its prediction in 99 % of frames and 0.46 m in 99.9 % (max 0.65); at 1 m the track of a
+    // person hidden by someone walking in front of them moved onto the walker, 0.1-0.2 m a frame
+    // (repeatable runs of seeds 1-5: identity switches 7 -> 4; 0.4 m split tracks: 46 -> 48).
+    double gate = 0.5;
     double gate_growth = 1.0;       // metres per second unseen added to the gate (the person may
                                     // have turned or stopped while hidden)
     int max_missed = 30;            // frames a track lives without a centre (1 s at 30 Hz)
