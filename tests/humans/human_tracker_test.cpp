@@ -125,6 +125,21 @@ TEST(HumanTracker, AHiddenPersonsTrackDoesNotMoveOntoWhoeverHidesThem) {
   }
 }
 
+// A person seen again after two thirds of a second unseen: the track's first centre is 0.3 m off
+// (their box merged with something beside them), the next one back where they are, 0.6 m from
+// it. A prediction made of that one centre is as uncertain as the centre, and the gate widens
+// by sqrt(1 + 1/1): the track takes the second centre. At the gate of a track seen all along it
+// would be someone new.
+TEST(HumanTracker, ATrackSeenAgainOnOneCentreHasAWiderGate) {
+  HumanTracker tracker;
+  for (int f = 0; f < 30; ++f) tracker.update(f / kRate, {{0, 0, 3}});
+  for (int f = 30; f < 50; ++f) tracker.update(f / kRate, {});
+  EXPECT_EQ(tracker.update(50 / kRate, {{-0.3, 0, 3}}), std::vector<int>{1});
+  const double gap = 0.6;
+  ASSERT_GT(gap, tracker.options().gate + tracker.options().gate_growth / kRate);
+  EXPECT_EQ(tracker.update(51 / kRate, {{-0.3 + gap, 0, 3}}), std::vector<int>{1});
+}
+
 // An image of two people, one in red, one in blue, for their appearances.
 PersonAppearance colouredPerson(const cv::Scalar& bgr) {
   cv::Mat image(120, 80, CV_8UC3, bgr);

@@ -1,6 +1,7 @@
 #include "pf2/humans/human_tracker.h"
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 
 #include "pf2/core/error.h"
@@ -18,7 +19,7 @@ void HumanTracker::reset() {
   next_id_ = 1;
 }
 
-Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp) const {
+Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* centres_used) const {
   const std::vector<HumanTrackPoint>& points = tracks_[live.track].points;
   const HumanTrackPoint& last = points.back();
   // A straight line fitted (least squares) to the centres of the last velocity_window seconds,
@@ -36,6 +37,7 @@ Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp) const 
     sum_tp += t * it->p_w;
     ++n;
   }
+  if (centres_used != nullptr) *centres_used = n;
   const double variance = sum_tt - sum_t * sum_t / n;
   if (n < 2 || variance <= 1e-9) return last.p_w;
   Eigen::Vector3d velocity = (sum_tp - sum_t * sum_p / n) / variance;
@@ -72,9 +74,14 @@ std::vector<int> HumanTracker::associatePredicted(double timestamp, const std::v
   // keeps the one who looks like it).
   std::vector<std::vector<double>> cost(centres_w.size(), std::vector<double>(live_.size()));
   for (size_t l = 0; l < live_.size(); ++l) {
-    const Eigen::Vector3d predicted = predict(live_[l], timestamp);
+    int centres_used = 1;
+    const Eigen::Vector3d predicted = predict(live_[l], timestamp, &centres_used);
     const double unseen = timestamp - tracks_[live_[l].track].points.back().timestamp;
-    const double gate = options_.gate + options_.gate_growth * std::max(0.0, unseen);
+    // A prediction made of n centres carries their noise / sqrt(n): the centre it is compared with
+    // may lie further from it when n is small (a track just seen again after a gap rests on one
+    // centre, which may itself be off).
+    const double gate =
+        options_.gate * std::sqrt(1.0 + 1.0 / centres_used) + options_.gate_growth * std::max(0.0, unseen);
     const PersonAppearance& track_appearance = appearance_[live_[l].track];
     for (size_t c = 0; c < centres_w.size(); ++c) {
       cost[c][l] = (centres_w[c] - predicted).norm() / gate;

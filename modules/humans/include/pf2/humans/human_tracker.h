@@ -11,10 +11,12 @@
 //   kPredicted — ours: each track predicts where its person is now from a constant velocity
 //                (a line fitted to its centres of the last velocity_window seconds); centres and
 //                tracks are matched by minimum total distance (Hungarian) within a gate that
-//                widens the longer a track has been unseen; tracks survive max_missed frames
-//                without a centre, so a person hidden for a moment keeps their id; a centre no
-//                live track takes is first compared with the tracks lost or unmatched within the
-//                last reid_window seconds, by appearance (colour histogram) and a reachable
+//                widens the longer a track has been unseen and the fewer centres its prediction
+//                rests on (gate x sqrt(1 + 1/n), n centres in velocity_window); tracks
+//                survive max_missed frames without a centre, so a person hidden for a moment
+//                keeps their id; a centre no live track takes is first compared with the
+//                tracks lost or unmatched within the last reid_window seconds, by appearance
+//                (colour histogram) and a reachable
 //                position (from any of its last reid_after centres: its last one may have come
 //                from a box that merged two people): the most similar one above reid_similarity
 //                takes it under its old id.
@@ -45,7 +47,8 @@ class HumanTracker {
   struct Options {
     Association association = Association::kPredicted;
     // --- kPredicted only ---
-    // Metres between a track's prediction and a centre it may take. 0.5: of the centres the
+    // Metres between a track's prediction and a centre it may take (for a prediction made of many
+    // centres; one made of n is trusted less, x sqrt(1 + 1/n)). 0.5: of the centres the
     // tracks took on 15 pf2_synth runs, those of the track's own person lay at most 0.30 m from
     // its prediction in 99 % of frames and 0.46 m in 99.9 % (max 0.65); at 1 m the track of a
     // person hidden by someone walking in front of them moved onto the walker, 0.1-0.2 m a frame
@@ -107,7 +110,8 @@ class HumanTracker {
     size_t track;   // index into tracks_
     int missed;     // consecutive frames without a centre
   };
-  Eigen::Vector3d predict(const Live& live, double timestamp) const;
+  // Where the track's person is at `timestamp`; centres_used: how many centres the line was fitted to.
+  Eigen::Vector3d predict(const Live& live, double timestamp, int* centres_used = nullptr) const;
   std::vector<int> associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const;
   std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
                                       const std::vector<PersonAppearance>& appearances) const;
