@@ -140,6 +140,19 @@ TEST(HumanTracker, ATrackSeenAgainOnOneCentreHasAWiderGate) {
   EXPECT_EQ(tracker.update(51 / kRate, {{-0.3 + gap, 0, 3}}), std::vector<int>{1});
 }
 
+// Two people, both unseen for a moment: one standing still a fifth of a second ago, one out of
+// sight for most of a second (a wide gate). A centre nearer to the first one's prediction is
+// theirs: the cost measures distance by the same base gate for both, so the longer-lost track
+// (whose own, wider gate would make the same distance look smaller) does not win the close call.
+TEST(HumanTracker, ALongerLostTrackDoesNotWinACentreNearerToAnother) {
+  HumanTracker tracker;
+  for (int f = 0; f < 10; ++f) tracker.update(f / kRate, {{0, 0, 3}, {1.2, 0, 3}});
+  for (int f = 10; f < 30; ++f) EXPECT_EQ(tracker.update(f / kRate, {{0, 0, 3}}), std::vector<int>{1});
+  for (int f = 30; f < 36; ++f) tracker.update(f / kRate, {});
+  ASSERT_EQ(tracker.liveTracks(), 2);
+  EXPECT_EQ(tracker.update(36 / kRate, {{0.5, 0, 3}}), std::vector<int>{1});
+}
+
 // An image of two people, one in red, one in blue, for their appearances.
 PersonAppearance colouredPerson(const cv::Scalar& bgr) {
   cv::Mat image(120, 80, CV_8UC3, bgr);

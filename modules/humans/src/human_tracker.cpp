@@ -68,10 +68,14 @@ std::vector<int> HumanTracker::associatePaper(const std::vector<Eigen::Vector3d>
 
 std::vector<int> HumanTracker::associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
                                                   const std::vector<PersonAppearance>& appearances) const {
-  // Rows: centres; columns: live tracks; cost: distance to the prediction, normalised by the
-  // track's gate so that one threshold (1) applies to tracks unseen for different times, plus the
-  // appearance's dissimilarity where both are known (of two people close together, each track
-  // keeps the one who looks like it).
+  // Rows: centres; columns: live tracks. A pair is allowed when its distance, as a share of the
+  // track's gate, plus the appearance's dissimilarity (where both are known: of two people close
+  // together, each track keeps the one who looks like it) is at most 1. Allowed pairs cost their
+  // distance as a share of the base gate, the same for every track, plus that dissimilarity: a
+  // track unseen for longer has a wider gate but no claim on a centre nearer to another's
+  // prediction (by its own gate's share it would win every close call).
+  constexpr double kForbidden = -1.0;  // marks a pair outside the gate until the largest allowed cost is known
+  double max_cost = 1.0;
   std::vector<std::vector<double>> cost(centres_w.size(), std::vector<double>(live_.size()));
   for (size_t l = 0; l < live_.size(); ++l) {
     int centres_used = 1;
@@ -84,13 +88,20 @@ std::vector<int> HumanTracker::associatePredicted(double timestamp, const std::v
         options_.gate * std::sqrt(1.0 + 1.0 / centres_used) + options_.gate_growth * std::max(0.0, unseen);
     const PersonAppearance& track_appearance = appearance_[live_[l].track];
     for (size_t c = 0; c < centres_w.size(); ++c) {
-      cost[c][l] = (centres_w[c] - predicted).norm() / gate;
+      const double distance = (centres_w[c] - predicted).norm();
+      double dissimilarity = 0.0;
       if (c < appearances.size() && !appearances[c].empty() && track_appearance.size() == appearances[c].size()) {
-        cost[c][l] += options_.appearance_weight * (1.0 - appearanceSimilarity(appearances[c], track_appearance));
+        dissimilarity = options_.appearance_weight * (1.0 - appearanceSimilarity(appearances[c], track_appearance));
       }
+      const bool allowed = distance / gate + dissimilarity <= 1.0;
+      cost[c][l] = allowed ? distance / options_.gate + dissimilarity : kForbidden;
+      if (allowed) max_cost = std::max(max_cost, cost[c][l]);
     }
   }
-  return solveAssignment(cost, 1.0);
+  for (std::vector<double>& row : cost) {
+    for (double& value : row) value = value == kForbidden ? 2.0 * max_cost + 1.0 : value;
+  }
+  return solveAssignment(cost, max_cost);
 }
 
 void HumanTracker::observe(size_t track, double timestamp, const Eigen::Vector3d& centre_w,
