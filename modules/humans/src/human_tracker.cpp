@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "pf2/core/error.h"
@@ -74,8 +75,7 @@ std::vector<int> HumanTracker::associatePredicted(double timestamp, const std::v
   // distance as a share of the base gate, the same for every track, plus that dissimilarity: a
   // track unseen for longer has a wider gate but no claim on a centre nearer to another's
   // prediction (by its own gate's share it would win every close call).
-  constexpr double kForbidden = -1.0;  // marks a pair outside the gate until the largest allowed cost is known
-  double max_cost = 1.0;
+  double max_cost = 1.0;  // the largest allowed pair's cost
   std::vector<std::vector<double>> cost(centres_w.size(), std::vector<double>(live_.size()));
   for (size_t l = 0; l < live_.size(); ++l) {
     int centres_used = 1;
@@ -94,14 +94,11 @@ std::vector<int> HumanTracker::associatePredicted(double timestamp, const std::v
         dissimilarity = options_.appearance_weight * (1.0 - appearanceSimilarity(appearances[c], track_appearance));
       }
       const bool allowed = distance / gate + dissimilarity <= 1.0;
-      cost[c][l] = allowed ? distance / options_.gate + dissimilarity : kForbidden;
+      cost[c][l] = allowed ? distance / options_.gate + dissimilarity : std::numeric_limits<double>::infinity();
       if (allowed) max_cost = std::max(max_cost, cost[c][l]);
     }
   }
-  for (std::vector<double>& row : cost) {
-    for (double& value : row) value = value == kForbidden ? 2.0 * max_cost + 1.0 : value;
-  }
-  return solveAssignment(cost, max_cost);
+  return solveAssignment(cost, max_cost);  // pairs above max_cost (the infinite ones) are never matched
 }
 
 void HumanTracker::observe(size_t track, double timestamp, const Eigen::Vector3d& centre_w,

@@ -16,10 +16,9 @@
 //                survive max_missed frames without a centre, so a person hidden for a moment
 //                keeps their id; a centre no live track takes is first compared with the
 //                tracks lost or unmatched within the last reid_window seconds, by appearance
-//                (colour histogram) and a reachable
-//                position (from any of its last reid_after centres: its last one may have come
-//                from a box that merged two people): the most similar one above reid_similarity
-//                takes it under its old id.
+//                (colour histogram) and a reachable position (from any of its last reid_after
+//                centres: its last one may have come from a box that merged two people): the
+//                most similar one above reid_similarity takes it under its old id.
 //                The comparison waits until the new track has reid_after centres: a stray
 //                centre that lasts a frame or two (a person's part split off, a false
 //                detection) cannot take a lost person's id, and the new track's appearance is
