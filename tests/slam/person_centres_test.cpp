@@ -1,5 +1,7 @@
 // Which depths are a person's own when their mask also holds someone else's: for eq. 2's d_m and
 // for their body fit.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "pf2/slam/person_centres.h"
@@ -133,6 +135,43 @@ TEST(PersonCentres, OfTwoCentresOfOneBodyTheOneOnFewerDepthsIsDropped) {
   // The larger one stays whichever comes first.
   std::swap(filtered.people[0], filtered.people[1]);
   EXPECT_EQ(kept(0.3), (std::vector<size_t>{1, 2}));
+}
+
+// A false mask component the detector joined to a person (the chair at the far side of the image)
+// stretches their box across the image; the box of their own depths does not.
+TEST(PersonCentres, ABoxStretchedByAFalseMaskComponentKeepsTheCentreOnThePerson) {
+  DualBBoxFilter::Result filtered;
+  filtered.static_depth = cv::Mat::zeros(480, 640, CV_32F);
+  DualBBoxFilter::Person person;
+  person.detection = 0;
+  person.box = {0, 0, 640, 480};
+  person.area = cv::Rect(0, 0, 640, 480);
+  person.interval = {1.9, 2.1, true};
+  person.depth = cv::Mat::zeros(480, 640, CV_32F);
+  person.depth(cv::Rect(100, 50, 80, 400)).setTo(2.0f);  // the person: columns 100-179
+  person.depth(cv::Rect(600, 200, 10, 10)).setTo(2.0f);  // 100 stray pixels at their depth
+  person.depth(cv::Rect(400, 300, 200, 100)).setTo(4.0f);  // the component, outside the interval
+  filtered.people.push_back(person);
+  Detections detections;
+  detections.people.emplace_back();
+  detections.people[0].mask = cv::Mat(480, 640, CV_8U, cv::Scalar(255));
+  const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
+  const double true_x = (140.0 - K.cx) / K.fx * 2.0;
+  SlamOptions options;
+  ASSERT_TRUE(options.human_box_from_depths);
+  std::vector<PersonCentre> centres = personCentres(filtered, detections, K, options);
+  ASSERT_EQ(centres.size(), 1u);
+  EXPECT_NEAR(centres[0].p_c.x(), true_x, 0.005);
+  EXPECT_NEAR(centres[0].p_c.z(), 2.0, 1e-6);
+  // Untrimmed, the 100 stray pixels stretch the box to column 609.
+  options.human_box_trim = 0.0;
+  centres = personCentres(filtered, detections, K, options);
+  EXPECT_NEAR(centres[0].p_c.x(), (355.0 - K.cx) / K.fx * 2.0, 0.005);
+  // The detector's box (eq. 2 as written): its centre is the image's, 0.67 m beside the person.
+  options.human_box_from_depths = false;
+  centres = personCentres(filtered, detections, K, options);
+  EXPECT_NEAR(centres[0].p_c.x(), (320.0 - K.cx) / K.fx * 2.0, 1e-6);
+  EXPECT_GT(std::abs(centres[0].p_c.x() - true_x), 0.6);
 }
 
 }  // namespace

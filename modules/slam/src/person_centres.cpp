@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "pf2/detection/keypoint_depth.h"
 #include "pf2/humans/human_position.h"
@@ -30,15 +32,59 @@ BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const Pers
 // filter has already kept only depths of the person's intervals).
 double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetection* detection,
                          const SlamOptions& options, long* pixels, BodyDepthBand* band_out) {
-  const bool masked = detection && !detection->mask.empty();
-  const bool use_interval = options.human_depth_in_interval && masked && person.interval.valid;
-  const double margin = options.filter.human_margin;
-  const double d_m = meanDepth(person.depth, use_interval ? person.interval.min - margin : 0.0,
-                               use_interval ? person.interval.max + margin : std::numeric_limits<double>::infinity(),
-                               pixels);
+  const DepthRange range = intervalDepths(person, detection, options);
+  const double d_m = meanDepth(person.depth, range.min, range.max, pixels);
   const BodyDepthBand band = detection ? keypointDepthBand(person, *detection, options, *pixels) : BodyDepthBand();
   if (band_out) *band_out = band;
   return band.empty() ? d_m : band.mean;
+}
+
+DepthRange intervalDepths(const DualBBoxFilter::Person& person, const PersonDetection* detection,
+                          const SlamOptions& options) {
+  const bool masked = detection && !detection->mask.empty();
+  if (!(options.human_depth_in_interval && masked && person.interval.valid)) {
+    return {0.0, std::numeric_limits<double>::infinity()};
+  }
+  const double margin = options.filter.human_margin;
+  return {person.interval.min - margin, person.interval.max + margin};
+}
+
+namespace {
+
+// The first and the last index of `counts` (summing to `total` > 0) past which more than `trim` of
+// the total lies on the far side: [first, last] holds all but trim of it at each end.
+std::pair<int, int> trimmedSpan(const std::vector<long>& counts, long total, double trim) {
+  const double outside = trim * static_cast<double>(total);
+  int first = 0, last = static_cast<int>(counts.size()) - 1;
+  for (long sum = counts[0]; static_cast<double>(sum) <= outside;) sum += counts[static_cast<size_t>(++first)];
+  for (long sum = counts.back(); static_cast<double>(sum) <= outside;) sum += counts[static_cast<size_t>(--last)];
+  return {first, last};
+}
+
+}  // namespace
+
+bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthRange& range, double trim, PersonBox* box) {
+  std::vector<long> columns(static_cast<size_t>(person.depth.cols), 0);
+  std::vector<long> rows(static_cast<size_t>(person.depth.rows), 0);
+  long total = 0;
+  for (int v = 0; v < person.depth.rows; ++v) {
+    const float* row = person.depth.ptr<float>(v);
+    for (int u = 0; u < person.depth.cols; ++u) {
+      if (!(row[u] > range.min && row[u] < range.max)) continue;
+      ++columns[static_cast<size_t>(u)];
+      ++rows[static_cast<size_t>(v)];
+      ++total;
+    }
+  }
+  if (total == 0) return false;
+  const double share = std::min(std::max(trim, 0.0), 0.49);  // each end keeps some depths
+  const std::pair<int, int> u = trimmedSpan(columns, total, share), v = trimmedSpan(rows, total, share);
+  // Pixel boxes as the detector's: x_lr, y_lr one past the last column and row.
+  box->x_ul = static_cast<float>(person.area.x + u.first);
+  box->x_lr = static_cast<float>(person.area.x + u.second + 1);
+  box->y_ul = static_cast<float>(person.area.y + v.first);
+  box->y_lr = static_cast<float>(person.area.y + v.second + 1);
+  return true;
 }
 
 double keypointShareOnPerson(const DualBBoxFilter::Person& person, const PersonDetection& detection,
@@ -84,8 +130,9 @@ std::vector<PersonCentre> withoutSecondViews(const std::vector<PersonCentre>& ce
 
 }  // namespace
 
-// Box centre at d_m (eq. 2). People whose depths cover less than human_min_area of the image get no
-// centre: a sliver of a person gives a box centre far from the body.
+// Box centre at d_m (eq. 2), the box that of the depths d_m rests on (human_box_from_depths) or the
+// detector's. People whose depths cover less than human_min_area of the image get no centre: a
+// sliver of a person gives a box centre far from the body.
 std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
                                         const CameraIntrinsics& K, const SlamOptions& options) {
   const double min_pixels = options.human_min_area * filtered.static_depth.total();
@@ -98,7 +145,13 @@ std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, 
     centre.person = index;
     const double d_m = personCentreDepth(person, detection, options, &centre.pixels, &centre.band);
     if (centre.pixels == 0 || centre.pixels < min_pixels) continue;
-    centre.p_c = humanCentreInCamera(person.box.x_ul, person.box.y_ul, person.box.x_lr, person.box.y_lr, d_m, K);
+    PersonBox box = person.box;
+    if (options.human_box_from_depths) {
+      const DepthRange range =
+          centre.band.empty() ? intervalDepths(person, detection, options) : DepthRange{centre.band.min, centre.band.max};
+      ownDepthBox(person, range, options.human_box_trim, &box);  // has depths: centre.pixels > 0
+    }
+    centre.p_c = humanCentreInCamera(box.x_ul, box.y_ul, box.x_lr, box.y_lr, d_m, K);
     centres.push_back(centre);
   }
   return withoutSecondViews(centres, options.human_same_body);

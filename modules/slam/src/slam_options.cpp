@@ -173,6 +173,10 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "a masked person's d_m and body fit use only their depths this near the median depth under their confident keypoints (0 = off)");
   s.number("humans.joint_min_share", &o.human_joint_min_share, 0.0, 1.0, "fraction",
            "humans.joint_band applies when at least this share of the person's depths lie in it");
+  s.boolean("humans.box_from_depths", &o.human_box_from_depths,
+            "a centre's box is that of the depths d_m rests on; false = the detector's box (eq. 2 as written)");
+  s.number("humans.box_trim", &o.human_box_trim, 0.0, 0.45, "fraction",
+           "humans.box_from_depths: each side of the box moved in past this share of the depths");
   s.number("humans.min_area", &o.human_min_area, 0.0, 1.0, "fraction", "no centre for a person covering less of the image");
   s.number("humans.same_body", &o.human_same_body, 0.0, 2.0, "metres",
            "of two centres of one frame this near each other, the one on fewer depths is dropped (one body; 0 = off)");

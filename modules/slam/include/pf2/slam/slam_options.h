@@ -68,6 +68,13 @@ struct SlamOptions {
   // fit over all of D_h^t).
   double human_joint_band = 0.3;
   double human_joint_min_share = 0.2;
+  // Eq. 2's box for a person's centre: the box of the depths d_m rests on, each side moved in past
+  // human_box_trim of them (a few stray pixels at the person's depth do not stretch it), instead
+  // of the detector's box. A false mask component the detector joined to a person stretches their
+  // box, up to the whole image's width (pf2_synth seed 9: a person's box 0-640 px put their centre
+  // 0.66 m beside them, and their track took turns with a second one). false = the detector's box.
+  bool human_box_from_depths = true;
+  double human_box_trim = 0.02;
   // A person whose d_m rests on fewer depths than this fraction of the image's pixels gets no
   // centre: a sliver of a person at the image border or behind another gives a box centre far
   // from the body and a depth histogram that may be the other person's (0 = every person).
