@@ -212,6 +212,32 @@ TEST(HumanTracker, ReidentifiesAPersonByAppearanceAfterALongGap) {
   EXPECT_THROW(paper.update(3 / kRate, {{0, 0, 2}}, {red, blue}), Error);
 }
 
+// A person in red comes back after 3 s at the image border: their first reid_after views show
+// them in part, 40 % of the pixels theirs and the rest the grey wall (similarity 0.63 to their
+// lost track). Compared again at 2 x reid_after centres, by when they are in full view, they are
+// re-identified; compared once only, they stay someone new.
+TEST(HumanTracker, APersonFirstSeenInPartIsReidentifiedOnceMoreOfThemIsSeen) {
+  const PersonAppearance red = colouredPerson({40, 40, 200}), grey = colouredPerson({128, 128, 128});
+  PersonAppearance in_part(red.size());
+  for (size_t i = 0; i < red.size(); ++i) in_part[i] = 0.4f * red[i] + 0.6f * grey[i];
+  HumanTracker::Options options;
+  ASSERT_LT(appearanceSimilarity(in_part, red), options.reid_similarity);
+  for (const int checks : {3, 1}) {
+    options.reid_checks = checks;
+    HumanTracker tracker(options);
+    for (int f = 0; f < 30; ++f) tracker.update(f / kRate, {{0.01 * f, 0, 2}}, {red});
+    for (int f = 30; f < 120; ++f) tracker.update(f / kRate, {});
+    const int after = options.reid_after;
+    std::vector<int> ids;
+    for (int f = 120; f < 120 + after; ++f) ids = tracker.update(f / kRate, {{1.5, 0, 2}}, {in_part});
+    EXPECT_EQ(ids, std::vector<int>{2});
+    for (int f = 120 + after; f < 120 + 2 * after; ++f) ids = tracker.update(f / kRate, {{1.5, 0, 2}}, {red});
+    EXPECT_EQ(ids, std::vector<int>{checks > 1 ? 1 : 2});
+    EXPECT_EQ(tracker.resolvedId(2), checks > 1 ? 1 : 2);
+    EXPECT_EQ(tracker.tracks().size(), checks > 1 ? 1u : 2u);
+  }
+}
+
 // A stray centre that lasts two frames (a person's part split off, a false detection) in the
 // colours of a lost person does not take their id; the person coming back later does, once their
 // new track has reid_after centres. The stray track is no person to come back either.

@@ -171,14 +171,21 @@ void HumanTracker::merge(size_t fresh, size_t old) {
   }
 }
 
+bool HumanTracker::reidentificationDue(const HumanTrack& track, double timestamp) const {
+  if (track.points.back().timestamp != timestamp) return false;
+  size_t centres = confirmedCentres();
+  for (int check = 0; check < options_.reid_checks; ++check, centres *= 2) {
+    if (track.points.size() == centres) return true;
+  }
+  return false;
+}
+
 void HumanTracker::reidentifyNewTracks(double timestamp, std::vector<int>* ids) {
-  // The tracks that got their reid_after-th centre in this frame (every track does so once).
+  // The tracks that got their reid_after-th (2 x, 4 x ... reid_after-th) centre in this frame.
   std::vector<int> due;
   for (const Live& live : live_) {
     const HumanTrack& track = tracks_[live.track];
-    if (track.points.size() == confirmedCentres() && track.points.back().timestamp == timestamp) {
-      due.push_back(track.id);
-    }
+    if (reidentificationDue(track, timestamp)) due.push_back(track.id);
   }
   for (const int fresh_id : due) {
     const size_t fresh = static_cast<size_t>(

@@ -202,6 +202,8 @@ void humanSettings(SlamOptions& o, Settings& s) {
   s.integer("humans.reid_after", &h.reid_after, 1, 1000, "frames",
             "a new track is compared with lost ones once it has this many centres, and ends when missed before "
             "(1 = at first sight)");
+  s.integer("humans.reid_checks", &h.reid_checks, 1, 8, "comparisons",
+            "a new track not re-identified is compared again at 2 x, 4 x ... humans.reid_after centres (1 = once)");
 }
 
 void bodySettings(SlamOptions& o, Settings& s) {

@@ -19,7 +19,8 @@
 //                (colour histogram) and a reachable position (from any of its last reid_after
 //                centres: its last one may have come from a box that merged two people): the
 //                most similar one above reid_similarity takes it under its old id.
-//                The comparison waits until the new track has reid_after centres: a stray
+//                The comparison waits until the new track has reid_after centres (and is
+//                made again at 2 x, 4 x ... reid_after, reid_checks times in all): a stray
 //                centre that lasts a frame or two (a person's part split off, a false
 //                detection) cannot take a lost person's id, and the new track's appearance is
 //                a mean over several views. A new track merged into an old one keeps its id
@@ -69,6 +70,11 @@ class HumanTracker {
     double reid_similarity = 0.70;
     int reid_after = 5;             // centres a new track has before it is compared with lost
                                     // tracks (1 = at first sight); fewer: it ends when missed
+    // Comparisons of a new track with the lost ones: at reid_after centres, then again at 2 x, 4 x
+    // ... reid_after while it has not been re-identified (1 = once). A person coming back into
+    // view is first seen in part (at the border, close to the lens), and their colours over the
+    // first few views may not yet be those of the whole person.
+    int reid_checks = 3;
     double appearance_rate = 0.2;   // weight of a new view in a track's appearance (running mean)
     // Added to the association cost (distance / gate; at most 1 matches) per unit of appearance
     // dissimilarity (1 - similarity): of two people close together, each track keeps the one who
@@ -123,7 +129,10 @@ class HumanTracker {
   int reidentify(size_t fresh) const;
   // Whether `first` lies within gate + max_speed x elapsed time of any of old's last reid_after centres.
   bool canReach(const HumanTrack& old, const HumanTrackPoint& first) const;
-  // Re-identifies the live tracks that have just reached reid_after centres at `timestamp`
+  // Whether `track` took its reid_after-th (or 2 x, 4 x ... up to reid_checks comparisons) centre
+  // at `timestamp`.
+  bool reidentificationDue(const HumanTrack& track, double timestamp) const;
+  // Re-identifies the live tracks due at `timestamp`
   // (merging each into the lost track it is); `ids` (this frame's, per centre) follow the merge.
   void reidentifyNewTracks(double timestamp, std::vector<int>* ids);
   // reid_after as a count (at least 1), and whether tracks_[track] has that many centres (a person,
