@@ -41,7 +41,7 @@ DepthRange intervalDepths(const DualBBoxFilter::Person& person, const PersonDete
                           const SlamOptions& options);
 
 // The box (image pixels, x_lr and y_lr one past the last) of person.depth's depths inside `range`,
-// each side moved in past `trim` (0..0.5) of those depths; false, `box` untouched, when there are
+// each side moved in past `trim` (0 <= trim < 0.5) of those depths; false, `box` untouched, when there are
 // none. Thread safe.
 bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthRange& range, double trim, PersonBox* box);
 
