@@ -32,21 +32,21 @@ BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const Pers
 // filter has already kept only depths of the person's intervals).
 double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetection* detection,
                          const SlamOptions& options, long* pixels, BodyDepthBand* band_out) {
-  const DepthRange range = intervalDepths(person, detection, options);
+  const DepthInterval range = intervalDepths(person, detection, options);
   const double d_m = meanDepth(person.depth, range.min, range.max, pixels);
   const BodyDepthBand band = detection ? keypointDepthBand(person, *detection, options, *pixels) : BodyDepthBand();
   if (band_out) *band_out = band;
   return band.empty() ? d_m : band.mean;
 }
 
-DepthRange intervalDepths(const DualBBoxFilter::Person& person, const PersonDetection* detection,
-                          const SlamOptions& options) {
+DepthInterval intervalDepths(const DualBBoxFilter::Person& person, const PersonDetection* detection,
+                             const SlamOptions& options) {
   const bool masked = detection && !detection->mask.empty();
   if (!(options.human_depth_in_interval && masked && person.interval.valid)) {
-    return {0.0, std::numeric_limits<double>::infinity()};
+    return {0.0, std::numeric_limits<double>::infinity(), true};
   }
   const double margin = options.filter.human_margin;
-  return {person.interval.min - margin, person.interval.max + margin};
+  return {person.interval.min - margin, person.interval.max + margin, true};
 }
 
 namespace {
@@ -63,7 +63,7 @@ std::pair<int, int> trimmedSpan(const std::vector<long>& counts, long total, dou
 
 }  // namespace
 
-bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthRange& range, double trim, PersonBox* box) {
+bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthInterval& range, double trim, PersonBox* box) {
   std::vector<long> columns(static_cast<size_t>(person.depth.cols), 0);
   std::vector<long> rows(static_cast<size_t>(person.depth.rows), 0);
   long total = 0;
@@ -147,8 +147,8 @@ std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, 
     if (centre.pixels == 0 || centre.pixels < min_pixels) continue;
     PersonBox box = person.box;
     if (options.human_box_from_depths) {
-      const DepthRange range =
-          centre.band.empty() ? intervalDepths(person, detection, options) : DepthRange{centre.band.min, centre.band.max};
+      const DepthInterval range = centre.band.empty() ? intervalDepths(person, detection, options)
+                                                      : DepthInterval{centre.band.min, centre.band.max, true};
       ownDepthBox(person, range, options.human_box_trim, &box);  // has depths: centre.pixels > 0
     }
     centre.p_c = humanCentreInCamera(box.x_ul, box.y_ul, box.x_lr, box.y_lr, d_m, K);

@@ -30,20 +30,17 @@ struct BodyDepthBand {
 BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
                                 const SlamOptions& options, long own_pixels);
 
-// Depths (metres) min < z < max.
-struct DepthRange {
-  double min = 0.0, max = 0.0;
-};
-
 // The depths d_m averages before any keypointDepthBand: the person's interval widened by
-// filter.human_margin (with human_depth_in_interval and a mask), else all (0, infinity). Thread safe.
-DepthRange intervalDepths(const DualBBoxFilter::Person& person, const PersonDetection* detection,
+// filter.human_margin (with human_depth_in_interval and a mask), else all (0, infinity); valid.
+// Thread safe.
+DepthInterval intervalDepths(const DualBBoxFilter::Person& person, const PersonDetection* detection,
                           const SlamOptions& options);
 
-// The box (image pixels, x_lr and y_lr one past the last) of person.depth's depths inside `range`,
+// The box (image pixels, x_lr and y_lr one past the last) of person.depth's depths inside `range`
+// (min < z < max),
 // each side moved in past `trim` (0 <= trim < 0.5) of those depths; false, `box` untouched, when there are
 // none. Thread safe.
-bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthRange& range, double trim, PersonBox* box);
+bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthInterval& range, double trim, PersonBox* box);
 
 // d_m (metres) of one person (detection: theirs, or null): the mean of their depths inside their
 // interval widened by filter.human_margin (with human_depth_in_interval and a mask), or inside
