@@ -1,5 +1,8 @@
 // VisibleCentre against the eq. 2 centre of a rendered body (pf2_synth's rasteriser: triangles, a
 // z-buffer, the box and mean depth of the person's pixels, as pf2_slam takes them).
+#include <array>
+#include <cmath>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -33,8 +36,9 @@ BodyParameters body(const Eigen::Vector3d& pelvis_c) {
   return b;
 }
 
-// Eq. 2 as pf2_slam takes it from a depth image: the box of the person's pixels, at their mean depth.
-bool renderedCentre(const BodyParameters& b, Eigen::Vector3d* centre_c) {
+// Eq. 2 as pf2_slam takes it from a depth image: the box of the person's pixels, at their mean depth;
+// pixels from row hidden_from down are hidden (by a table in front of the person), -1: none.
+bool renderedCentre(const BodyParameters& b, Eigen::Vector3d* centre_c, int hidden_from = -1) {
   const BodyMesh mesh = model().evaluate(b);
   const RenderMesh person =
       bodyRenderMesh(mesh, std::vector<Eigen::Vector3f>(mesh.vertices.size(), Eigen::Vector3f::Constant(0.5f)), 1);
@@ -42,7 +46,8 @@ bool renderedCentre(const BodyParameters& b, Eigen::Vector3d* centre_c) {
   options.parallel = false;
   RenderedImages images;
   Rasterizer(options).render({&person}, {}, camera(), Eigen::Isometry3d::Identity(), &images);
-  const cv::Mat on_person = images.labels == 1;
+  cv::Mat on_person = images.labels == 1;
+  if (hidden_from >= 0 && hidden_from < on_person.rows) on_person.rowRange(hidden_from, on_person.rows) = 0;
   if (cv::countNonZero(on_person) == 0) return false;
   const cv::Rect box = cv::boundingRect(on_person);
   *centre_c = humanCentreInCamera(box.x, box.y, box.x + box.width - 1, box.y + box.height - 1,
@@ -107,37 +112,76 @@ TEST(VisibleCentre, ABodyOutOfViewHasNoCentreAndLeavesThePelvisAlone) {
   EXPECT_EQ(pelvis, Eigen::Vector3d(4, 5, 6));
 }
 
-// pf2_slam's end of run: a person fitted in full view, seen again 2 s later (beyond max_gap) with
-// most of them beyond the image border, same pose. Their body is placed where its visible part
-// gives the centre measured then; by the centre plus the fit's offset it would be decimetres off.
+// pf2_slam's end of run for a person fitted in full view (pelvis at fitted_c, frame 0) and seen once
+// more `seconds` later with the eq. 2 centre later_centre_c, both frames on one keyframe at T_w_k:
+// the two frames' pelvises in that keyframe's camera frame (NaN when there are not two frames).
+std::array<Eigen::Vector3d, 2> placedPelvises(const BodyTrackAssembler::Options& options,
+                                              const Eigen::Isometry3d& T_w_k, const Eigen::Vector3d& up_w,
+                                              const Eigen::Vector3d& fitted_c, const Eigen::Vector3d& later_centre_c,
+                                              double seconds) {
+  std::vector<PersonSighting> seen(2);
+  EXPECT_TRUE(renderedCentre(body(fitted_c), &seen[0].p_c));
+  seen[1].p_c = later_centre_c;
+  seen[1].frame_index = static_cast<int>(std::lround(30 * seconds));
+  seen[1].timestamp = seconds;
+  for (PersonSighting& s : seen) s.keyframe_id = 0;
+  BodyTrackFit fit;
+  fit.keyframe_id = 0;
+  fit.body_c = body(fitted_c);
+  const std::vector<BodyTrack> tracks =
+      BodyTrackAssembler(model(), options).assemble(seen, {fit}, {{0, T_w_k}}, camera(), up_w);
+  std::array<Eigen::Vector3d, 2> pelvis_c;
+  pelvis_c.fill(Eigen::Vector3d::Constant(NAN));
+  if (tracks.size() != 1 || tracks[0].frames.size() != 2) return pelvis_c;
+  for (int k = 0; k < 2; ++k) pelvis_c[k] = T_w_k.inverse() * tracks[0].frames[k].pelvis_w;
+  return pelvis_c;
+}
+
+// A person fitted in full view, seen again 2 s later (beyond max_gap) with most of them beyond the
+// image border, same pose. Their body is placed where its visible part gives the centre measured
+// then; by the centre plus the fit's offset it would be decimetres off.
 TEST(VisibleCentre, PlacesAPersonCutByTheBorderLongAfterTheirFit) {
   const Eigen::Vector3d in_view(0.1, 0.1, 2.5), cut(-1.4, 0.1, 2.5);
   Eigen::Isometry3d T_w_k = Eigen::Isometry3d::Identity();
   T_w_k.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.1, 1, 0.2).normalized()).toRotationMatrix();
   T_w_k.translation() = Eigen::Vector3d(1, -0.5, 2);
-  std::vector<PersonSighting> seen(2);
-  ASSERT_TRUE(renderedCentre(body(in_view), &seen[0].p_c));
-  ASSERT_TRUE(renderedCentre(body(cut), &seen[1].p_c));
-  for (PersonSighting& s : seen) s.keyframe_id = 0;
-  seen[1].frame_index = 60;
-  seen[1].timestamp = 2.0;
-  BodyTrackFit fit;
-  fit.keyframe_id = 0;
-  fit.body_c = body(in_view);
+  Eigen::Vector3d cut_centre;
+  ASSERT_TRUE(renderedCentre(body(cut), &cut_centre));
   for (const bool by_visible_centre : {true, false}) {
     BodyTrackAssembler::Options options;
     options.smoothing_sigma = 0;
     options.visible_centre = by_visible_centre;
-    const std::vector<BodyTrack> tracks =
-        BodyTrackAssembler(model(), options).assemble(seen, {fit}, {{0, T_w_k}}, camera());
-    ASSERT_EQ(tracks.size(), 1u);
-    ASSERT_EQ(tracks[0].frames.size(), 2u);
-    const double miss = (tracks[0].frames[1].pelvis_w - T_w_k * cut).norm();
+    const auto pelvis_c = placedPelvises(options, T_w_k, Eigen::Vector3d::Zero(), in_view, cut_centre, 2.0);
+    const double miss = (pelvis_c[1] - cut).norm();
     std::printf("cut person placed %s: %.3f m from the pelvis\n",
                 by_visible_centre ? "by the visible centre" : "by the offset", miss);
     if (by_visible_centre) EXPECT_LT(miss, 0.04);
     else EXPECT_GT(miss, 0.15);
-    EXPECT_LT((tracks[0].frames[0].pelvis_w - T_w_k * in_view).norm(), 1e-6) << "the fit itself stays";
+    EXPECT_LT((pelvis_c[0] - in_view).norm(), 1e-6) << "the fit itself stays";
+  }
+}
+
+// A person fitted in full view walks 0.4 m on and is seen again 2.5 s later (beyond max_gap) with
+// everything below their pelvis hidden by a table. Their eq. 2 centre lies on their upper body, and
+// the body placed to give that centre floats decimetres above their pelvis; with hold_height it
+// keeps the fit's pelvis height and takes only the horizontal position from the centre.
+TEST(VisibleCentre, APersonBehindATableKeepsTheirFitsPelvisHeight) {
+  const Eigen::Vector3d fitted(0.1, 0.1, 2.5), later(0.5, 0.1, 2.5);
+  Eigen::Isometry3d T_w_k = Eigen::Isometry3d::Identity();
+  T_w_k.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d(0.3, 1, 0.1).normalized()).toRotationMatrix();
+  T_w_k.translation() = Eigen::Vector3d(-1, 0.4, 1.5);
+  const Eigen::Vector3d up_w = T_w_k.linear() * Eigen::Vector3d(0, -1, 0);  // the camera's up (y down)
+  Eigen::Vector3d later_centre;
+  ASSERT_TRUE(renderedCentre(body(later), &later_centre, static_cast<int>(camera().project(later).y())));
+  for (const bool hold_height : {true, false}) {
+    BodyTrackAssembler::Options options;
+    options.smoothing_sigma = 0;
+    options.hold_height = hold_height;
+    const Eigen::Vector3d miss_c = placedPelvises(options, T_w_k, up_w, fitted, later_centre, 2.5)[1] - later;
+    std::printf("person behind a table, hold_height %d: %.3f m from the pelvis (%.3f m in height)\n", hold_height,
+                miss_c.norm(), std::abs(miss_c.y()));
+    if (hold_height) EXPECT_LT(miss_c.norm(), 0.06);
+    else EXPECT_GT(std::abs(miss_c.y()), 0.15);
   }
 }
 

@@ -76,7 +76,8 @@ std::vector<HumanTrack> pelvisTracks(const std::vector<BodyTrack>& bodies) {
 std::vector<BodyTrack> BodyTrackAssembler::assemble(const std::vector<PersonSighting>& sightings,
                                                     const std::vector<BodyTrackFit>& fits,
                                                     const std::map<int, Eigen::Isometry3d>& keyframe_poses,
-                                                    const CameraIntrinsics& intrinsics) const {
+                                                    const CameraIntrinsics& intrinsics,
+                                                    const Eigen::Vector3d& up_w) const {
   std::map<int, std::vector<const PersonSighting*>> seen;
   std::map<int, std::vector<const BodyTrackFit*>> fitted;
   for (const PersonSighting& s : sightings) seen[s.track_id].push_back(&s);
@@ -88,7 +89,7 @@ std::vector<BodyTrack> BodyTrackAssembler::assemble(const std::vector<PersonSigh
     std::vector<const BodyTrackFit*>& own = fitted[id];
     std::stable_sort(own.begin(), own.end(),
                      [](const BodyTrackFit* a, const BodyTrackFit* b) { return a->frame_index < b->frame_index; });
-    tracks.push_back(assembleTrack(id, list, own, keyframe_poses, intrinsics));
+    tracks.push_back(assembleTrack(id, list, own, keyframe_poses, intrinsics, up_w));
   }
   return tracks;
 }
@@ -255,7 +256,7 @@ Eigen::Vector3d BodyTrackAssembler::translationBetweenFits(const std::vector<con
 BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
                                             std::vector<const BodyTrackFit*> fitted,
                                             const std::map<int, Eigen::Isometry3d>& keyframe_poses,
-                                            const CameraIntrinsics& intrinsics) const {
+                                            const CameraIntrinsics& intrinsics, const Eigen::Vector3d& up_w) const {
   BodyTrack track;
   track.id = id;
   track.shape = Eigen::VectorXd::Zero(BodyFitter::Options::kShapeCount);
@@ -312,6 +313,10 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
             vertices = vertices_of_fit.emplace(nearest, verticesAboutPelvis(bodies[nearest], rest_pelvis)).first;
           }
           pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], vertices->second, by_offset, image, &pelvis_w);
+        }
+        if (options_.hold_height && up_w.norm() > 0) {
+          const Eigen::Vector3d fit_pelvis = rest_pelvis + bodies[nearest].translation;
+          pelvis_w += (fit_pelvis - pelvis_w).dot(up_w) * up_w;
         }
         placePelvis(pelvis_w, rest_pelvis, &body);
       }

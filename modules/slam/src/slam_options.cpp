@@ -257,6 +257,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
             "a person far from any fit is placed where the nearest fit's body gives their eq. 2 centre in the image "
             "(the part inside it only), and a fit of a person cut by the border is judged by that centre; false: at "
             "the centre plus the fit's offset, every fit judged by its offset");
+  s.boolean("bodies.hold_height", &o.body_tracks.hold_height,
+            "a person far from any fit keeps the nearest fit's pelvis height, only their horizontal position comes "
+            "from the eq. 2 centre; false: the centre's height too");
   s.integer("bodies.scene_every", &o.scene.bodies_every, 0, 100000, "frames",
             "scene.ply/.obj also show every n-th body along each track (0 = the last fitted body only)");
 }

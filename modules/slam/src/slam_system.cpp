@@ -207,7 +207,7 @@ class SlamSystem::Pipeline {
       // Tracks follow the bodies' pelvis where there is a fit, the eq. 2 centre otherwise.
       const BodyTrackAssembler assembler(*body_model_, options_.body_tracks);
       result.bodies = assembler.assemble(personSightings(records_), relabelled(body_fitter_->finish()), keyframe_poses,
-                                         intrinsics_);
+                                         intrinsics_, up_.up_w());
       result.body_model = body_model_;
       result.scene = options_.scene;
       result.humans = pelvisTracks(result.bodies);
