@@ -82,6 +82,7 @@ std::vector<BodyTrack> BodyTrackAssembler::assemble(const std::vector<PersonSigh
   std::map<int, std::vector<const BodyTrackFit*>> fitted;
   for (const PersonSighting& s : sightings) seen[s.track_id].push_back(&s);
   for (const BodyTrackFit& f : fits) fitted[f.track_id].push_back(&f);
+  const Eigen::Vector3d up = up_w.norm() > 0 ? Eigen::Vector3d(up_w.normalized()) : Eigen::Vector3d::Zero();
   std::vector<BodyTrack> tracks;
   for (auto& [id, list] : seen) {
     std::stable_sort(list.begin(), list.end(),
@@ -89,7 +90,7 @@ std::vector<BodyTrack> BodyTrackAssembler::assemble(const std::vector<PersonSigh
     std::vector<const BodyTrackFit*>& own = fitted[id];
     std::stable_sort(own.begin(), own.end(),
                      [](const BodyTrackFit* a, const BodyTrackFit* b) { return a->frame_index < b->frame_index; });
-    tracks.push_back(assembleTrack(id, list, own, keyframe_poses, intrinsics, up_w));
+    tracks.push_back(assembleTrack(id, list, own, keyframe_poses, intrinsics, up));
   }
   return tracks;
 }
