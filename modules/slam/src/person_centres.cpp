@@ -130,9 +130,9 @@ std::vector<PersonCentre> withoutSecondViews(const std::vector<PersonCentre>& ce
 
 }  // namespace
 
-// Box centre at d_m (eq. 2), the box being that of the depths d_m rests on (human_box_from_depths) or the
-// detector's. People whose depths cover less than human_min_area of the image get no centre: a
-// sliver of a person gives a box centre far from the body.
+// Box centre at d_m (eq. 2), the box being that of the depths d_m rests on (human_box_from_depths)
+// or the detector's. People whose depths cover less than human_min_area of the image get no
+// centre: a sliver of a person gives a box centre far from the body.
 std::vector<PersonCentre> personCentres(const DualBBoxFilter::Result& filtered, const Detections& detections,
                                         const CameraIntrinsics& K, const SlamOptions& options) {
   const double min_pixels = options.human_min_area * filtered.static_depth.total();

@@ -34,12 +34,11 @@ BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const Pers
 // filter.human_margin (with human_depth_in_interval and a mask), else all (0, infinity); valid.
 // Thread safe.
 DepthInterval intervalDepths(const DualBBoxFilter::Person& person, const PersonDetection* detection,
-                          const SlamOptions& options);
+                             const SlamOptions& options);
 
 // The box (image pixels, x_lr and y_lr one past the last) of person.depth's depths inside `range`
-// (min < z < max),
-// each side moved in past `trim` (0 <= trim < 0.5) of those depths; false, `box` untouched, when there are
-// none. Thread safe.
+// (min < z < max), each side moved in past `trim` (0 <= trim < 0.5) of those depths; false, `box`
+// untouched, when there are none. Thread safe.
 bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthInterval& range, double trim, PersonBox* box);
 
 // d_m (metres) of one person (detection: theirs, or null): the mean of their depths inside their
