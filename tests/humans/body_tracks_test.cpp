@@ -444,6 +444,46 @@ TEST(BodyTrackFitter, AStartFarFromThePersonsDepthIsNotUsed) {
   EXPECT_GT(std::abs(costAfter(here, near, 0.3) - coldCost(near)), 1e-6);
 }
 
+// The longest body segment of a pose is measured on the plane at a depth: the person of
+// personInCamera() at 2.5 m measures a real body's thigh or torso side there, a fifth of it at
+// 0.5 m; head keypoints and unsure ends do not count.
+TEST(LongestBodySegment, MeasuresThePoseOnThePlaneAtItsDepth) {
+  const BodyObservation o = observationAt(0.0, 0);
+  const double at_its_depth = longestBodySegment(o.keypoints, 2.5, o.intrinsics, 0.1);
+  EXPECT_GT(at_its_depth, 0.35);
+  EXPECT_LT(at_its_depth, 0.6);
+  EXPECT_NEAR(longestBodySegment(o.keypoints, 0.5, o.intrinsics, 0.1), at_its_depth / 5.0, 1e-9);
+  std::array<BodyKeypoint, kCocoKeypointCount> sides{};
+  sides[5] = {340, 200, 0.9};  // left shoulder
+  sides[11] = {335, 280, 0.9};  // left hip, 80 px below
+  sides[0] = {340, 100, 0.9};  // the nose: no segment
+  EXPECT_NEAR(longestBodySegment(sides, 2.0, o.intrinsics, 0.1),
+              std::hypot(5 * 2.0 / o.intrinsics.fx, 80 * 2.0 / o.intrinsics.fy), 1e-12);
+  sides[11].confidence = 0.05;
+  EXPECT_EQ(longestBodySegment(sides, 2.0, o.intrinsics, 0.1), 0.0);
+}
+
+// A near person's mask that took the pose of someone farther away (seen beside or through them):
+// the pose measures a fifth of a body at the near person's depth, and is not fitted; the same
+// pose at its own depth, or with the check off, is.
+TEST(BodyTrackFitter, APoseFarSmallerThanABodyAtThePersonsDepthIsNotFitted) {
+  BodyTrackFitter::Options options;
+  options.asynchronous = false;
+  ASSERT_GT(options.min_pose_size, 0.0);
+  const auto fitsOf = [&](const BodyObservation& o, const BodyTrackFitter::Options& with) {
+    BodyTrackFitter fitter(model(), with);
+    fitter.offer(o);
+    return fitter.finish().size();
+  };
+  BodyObservation near = observationAt(0.0, 0);
+  EXPECT_EQ(fitsOf(near, options), 1u);
+  near.depth.setTo(0.5);  // the pelvis at 2.5 m: a person five times nearer
+  EXPECT_LT(longestBodySegment(near.keypoints, 0.5, near.intrinsics, 0.1), options.min_pose_size);
+  EXPECT_EQ(fitsOf(near, options), 0u);
+  options.min_pose_size = 0.0;
+  EXPECT_EQ(fitsOf(near, options), 1u);
+}
+
 // Keypoint refinement: the hook gets the observation's colour, the person's box and keypoints in
 // that colour's pixels, and the keypoints it gives back (in the same pixels) are what is fitted,
 // moved back into the frame's pixels.

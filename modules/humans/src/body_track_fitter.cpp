@@ -9,6 +9,20 @@ namespace pf2 {
 
 namespace {
 
+// COCO-17 pairs joined by a bone below the head: shoulders, torso sides, hips, arms, legs.
+constexpr int kBodySegments[][2] = {{5, 6},  {5, 11},  {6, 12},  {11, 12}, {5, 7},   {7, 9},
+                                    {6, 8},  {8, 10},  {11, 13}, {13, 15}, {12, 14}, {14, 16}};
+
+// Median of the points' depths; 0 without points.
+double medianDepth(const std::vector<Eigen::Vector3d>& points_c) {
+  if (points_c.empty()) return 0.0;
+  std::vector<double> depths(points_c.size());
+  for (size_t i = 0; i < points_c.size(); ++i) depths[i] = points_c[i].z();
+  const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
+  std::nth_element(depths.begin(), middle, depths.end());
+  return *middle;
+}
+
 BodyFitter::Options withTemporal(BodyFitter::Options options, double weight_temporal, bool fit_shape) {
   options.weight_temporal = weight_temporal;
   options.fit_shape = fit_shape;
@@ -16,6 +30,18 @@ BodyFitter::Options withTemporal(BodyFitter::Options options, double weight_temp
 }
 
 }  // namespace
+
+double longestBodySegment(const std::array<BodyKeypoint, kCocoKeypointCount>& keypoints, double depth,
+                          const CameraIntrinsics& K, double min_confidence) {
+  double longest = 0.0;
+  for (const auto& segment : kBodySegments) {
+    const BodyKeypoint& a = keypoints[static_cast<size_t>(segment[0])];
+    const BodyKeypoint& b = keypoints[static_cast<size_t>(segment[1])];
+    if (!(a.confidence >= min_confidence && b.confidence >= min_confidence)) continue;
+    longest = std::max(longest, std::hypot((a.u - b.u) * depth / K.fx, (a.v - b.v) * depth / K.fy));
+  }
+  return longest;
+}
 
 // What the fitting thread remembers of one track.
 struct BodyTrackFitter::TrackState {
@@ -122,18 +148,23 @@ BodyFitInput BodyTrackFitter::fitInput(const BodyObservation& o, const TrackStat
 // off for 100 frames).
 bool BodyTrackFitter::startsNearThePerson(const BodyParameters& start, const std::vector<Eigen::Vector3d>& points_c) const {
   if (points_c.empty() || options_.max_start_depth_gap <= 0) return true;
-  std::vector<double> depths(points_c.size());
-  for (size_t i = 0; i < points_c.size(); ++i) depths[i] = points_c[i].z();
-  const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
-  std::nth_element(depths.begin(), middle, depths.end());
   const double pelvis_depth = (start.translation + model_.restJoints(start.shape)[0]).z();
-  return std::abs(pelvis_depth - *middle) <= options_.max_start_depth_gap;
+  return std::abs(pelvis_depth - medianDepth(points_c)) <= options_.max_start_depth_gap;
+}
+
+// True without points or a segment with both ends (nothing to measure the pose by).
+bool BodyTrackFitter::poseFitsTheDepth(const BodyFitInput& input, const CameraIntrinsics& K) const {
+  if (input.points_c.empty() || options_.min_pose_size <= 0) return true;
+  const double size =
+      longestBodySegment(input.keypoints, medianDepth(input.points_c), K, options_.fitter.min_confidence);
+  return size == 0.0 || size >= options_.min_pose_size;
 }
 
 void BodyTrackFitter::fitOne(const BodyObservation& o) {
   TrackState& track = tracks_[o.track_id];
   BodyParameters start;
   const BodyFitInput input = fitInput(o, track, &start);
+  if (!poseFitsTheDepth(input, o.intrinsics)) return;  // someone else's pose
   // The shape is held only where the start carries it (a warm start); otherwise the shape prior.
   const bool hold_shape = input.previous && track.shapeHeld(options_.shape_fits);
   BodyFitResult result;

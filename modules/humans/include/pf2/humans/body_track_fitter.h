@@ -68,6 +68,12 @@ struct BodyTrackFit {
   double cost = 0;
 };
 
+// The longest of a pose's body segments (shoulder and hip widths, torso sides, upper and lower
+// limbs) whose two keypoints have at least min_confidence, in metres on the plane `depth` metres in
+// front of camera K; 0 when no segment has both ends. Thread safe.
+double longestBodySegment(const std::array<BodyKeypoint, kCocoKeypointCount>& keypoints, double depth,
+                          const CameraIntrinsics& K, double min_confidence);
+
 class BodyTrackFitter {
  public:
   struct Options {
@@ -78,6 +84,13 @@ class BodyTrackFitter {
     // m: a start whose pelvis lies farther in depth from the median depth of the person's points
     // is not used (the fit starts afresh), [0, 10]; 0 = no check.
     double max_start_depth_gap = 0.3;
+    // m: a pose (after the closer look) whose longest body segment (longestBodySegment) measures
+    // less at the median depth of the person's points is not fitted, [0, 2]; 0 = no check. A torso
+    // side is about 0.5 m, so such a pose is someone farther away seen beside or through this
+    // person, whose mask took it (pf2_synth: a person 0.7 m from the lens, cut at the top and the
+    // bottom, given the pose of the person seated behind them, measured 0.07-0.10 m there; their
+    // fits put the pelvis 0.3-0.4 m off).
+    double min_pose_size = 0.15;
     double weight_temporal = 1.0;  // pull towards the warm start's pose (BodyFitter::Options), [0, 100]
     bool asynchronous = true;      // false: fit inside offer() (slower; the same fits on every run)
     // Optional: a closer look at the keypoints before each fit (e.g. PoseRefiner). Called in the
@@ -116,6 +129,8 @@ class BodyTrackFitter {
   BodyFitInput fitInput(const BodyObservation& observation, const TrackState& track, BodyParameters* start);
   // Whether a warm start's pelvis lies within max_start_depth_gap of the points' median depth.
   bool startsNearThePerson(const BodyParameters& start, const std::vector<Eigen::Vector3d>& points_c) const;
+  // Whether the input's keypoints measure at least min_pose_size at its points' median depth.
+  bool poseFitsTheDepth(const BodyFitInput& input, const CameraIntrinsics& K) const;
 
   const BodyModel& model_;
   const Options options_;
