@@ -477,7 +477,7 @@ TEST(BodyTrackFitter, APoseFarSmallerThanABodyAtThePersonsDepthIsNotFitted) {
   };
   BodyObservation near = observationAt(0.0, 0);
   EXPECT_EQ(fitsOf(near, options), 1u);
-  near.depth.setTo(0.5);  // the pelvis at 2.5 m: a person five times nearer
+  near.depth.setTo(0.5);  // a person five times nearer than the pose (its pelvis lies at 2.5 m)
   EXPECT_LT(longestBodySegment(near.keypoints, 0.5, near.intrinsics, 0.1), options.min_pose_size);
   EXPECT_EQ(fitsOf(near, options), 0u);
   options.min_pose_size = 0.0;
