@@ -276,6 +276,31 @@ TEST(HumanTracker, ReidentifiesAPersonWhoseLastCentreWasAStrayOne) {
   EXPECT_EQ(tracker.resolvedId(2), 1);
 }
 
+// Two people in much the same red stand at x = 0 and x = 3 m and are both lost. 2 s later one
+// comes back at x = 0.2 m: the far track looks more alike (similarity 0.995 against the near one's
+// 0.887), but its person would have had to walk 2.3 m beyond the gate in 2 s (1.15 m/s). With
+// reid_speed_cost 0.15 the near track takes them back; without it the more similar one does.
+TEST(HumanTracker, OfTwoLostTracksThatLookAlikeTheNearOneReidentifies) {
+  const PersonAppearance red = colouredPerson({40, 40, 200}), orange_red = colouredPerson({40, 70, 200});
+  PersonAppearance mixed(red.size());
+  for (size_t i = 0; i < red.size(); ++i) mixed[i] = 0.8f * red[i] + 0.2f * orange_red[i];
+  ASSERT_GT(appearanceSimilarity(red, mixed), appearanceSimilarity(orange_red, mixed));
+  ASSERT_GT(appearanceSimilarity(orange_red, mixed), HumanTracker::Options().reid_similarity);
+  for (const double cost : {0.15, 0.0}) {
+    HumanTracker::Options options;
+    options.reid_speed_cost = cost;
+    HumanTracker tracker(options);
+    for (int f = 0; f < 30; ++f) {
+      ASSERT_EQ(tracker.update(f / kRate, {{0, 0, 2}, {3, 0, 2}}, {orange_red, red}), (std::vector<int>{1, 2}));
+    }
+    for (int f = 30; f < 90; ++f) tracker.update(f / kRate, {});
+    ASSERT_EQ(tracker.liveTracks(), 0);
+    std::vector<int> ids;
+    for (int f = 90; f < 90 + options.reid_after; ++f) ids = tracker.update(f / kRate, {{0.2, 0, 2}}, {mixed});
+    EXPECT_EQ(ids, std::vector<int>{cost > 0 ? 1 : 2}) << "reid_speed_cost " << cost;
+  }
+}
+
 // A person in red walks alone, then someone in blue stands 0.3 m beside them for a second, and
 // the red person's detection shows the blue one's colours (one detection for the two). With
 // appearance_crowd, the red track does not learn them: back after 3 s unseen, the red person is

@@ -124,7 +124,7 @@ int HumanTracker::reidentify(size_t fresh) const {
   if (appearance.empty()) return -1;
   const HumanTrackPoint& first = tracks_[fresh].points.front();
   int best = -1;
-  double best_similarity = options_.reid_similarity;
+  double best_score = -std::numeric_limits<double>::infinity();
   for (size_t t = 0; t < tracks_.size(); ++t) {
     // A track that never had reid_after centres was a stray one, no person to come back.
     if (t == fresh || !confirmed(t)) continue;
@@ -132,25 +132,32 @@ int HumanTracker::reidentify(size_t fresh) const {
     // Seen while the new track was: someone else.
     const double unseen = first.timestamp - last.timestamp;
     if (unseen <= 0 || unseen > options_.reid_window) continue;
-    if (!canReach(tracks_[t], first)) continue;
+    const double speed = impliedSpeed(tracks_[t], first);
+    if (speed > options_.max_speed) continue;
     const double similarity = appearanceSimilarity(appearance, appearance_[t]);
-    if (similarity >= best_similarity) best_similarity = similarity, best = static_cast<int>(t);
+    if (similarity < options_.reid_similarity) continue;
+    // Of the lost tracks that look alike, the one its person need not have hurried from.
+    const double score = similarity - options_.reid_speed_cost * speed;
+    if (score > best_score) best_score = score, best = static_cast<int>(t);
   }
   return best;
 }
 
-// Whether the person of `old` could have walked to `first` (a later centre) while unseen: from any
-// of old's last reid_after centres, not only the last one. A box that merged two people puts a
-// track's last centre on the other person (at their depth), metres from where this one was.
-bool HumanTracker::canReach(const HumanTrack& old, const HumanTrackPoint& first) const {
+// The speed (m/s) at which the person of `old` must have walked to `first` (a later centre) while
+// unseen, beyond the gate: the least over old's last reid_after centres, not only the last one. A
+// box that merged two people puts a track's last centre on the other person (at their depth),
+// metres from where this one was.
+double HumanTracker::impliedSpeed(const HumanTrack& old, const HumanTrackPoint& first) const {
   const size_t considered = std::min(old.points.size(), confirmedCentres());
+  double least = std::numeric_limits<double>::infinity();
   for (size_t k = old.points.size() - considered; k < old.points.size(); ++k) {
     const HumanTrackPoint& from = old.points[k];
-    if ((first.p_w - from.p_w).norm() <= options_.gate + options_.max_speed * (first.timestamp - from.timestamp)) {
-      return true;
-    }
+    const double beyond_gate = std::max(0.0, (first.p_w - from.p_w).norm() - options_.gate);
+    const double elapsed = first.timestamp - from.timestamp;
+    if (beyond_gate == 0.0) return 0.0;
+    if (elapsed > 0.0) least = std::min(least, beyond_gate / elapsed);
   }
-  return false;
+  return least;
 }
 
 // The new track's centres become the old track's (all of them later than the old one's last),

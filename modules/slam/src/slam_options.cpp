@@ -199,6 +199,8 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "a centre this near another live track's prediction does not update its track's appearance (0 = always)");
   s.number("humans.reid_similarity", &h.reid_similarity, 0.0, 1.0, "",
            "colour-histogram similarity (Bhattacharyya coefficient) needed to re-identify a person");
+  s.number("humans.reid_speed_cost", &h.reid_speed_cost, 0.0, 10.0, "per m/s",
+           "similarity taken off a lost track's claim per m/s its person must have walked while unseen (0 = off)");
   s.integer("humans.reid_after", &h.reid_after, 1, 1000, "frames",
             "a new track is compared with lost ones once it has this many centres, and ends when missed before "
             "(1 = at first sight)");

@@ -17,8 +17,10 @@
 //                keeps their id; a centre no live track takes is first compared with the
 //                tracks lost or unmatched within the last reid_window seconds, by appearance
 //                (colour histogram) and a reachable position (from any of its last reid_after
-//                centres: its last one may have come from a box that merged two people): the
-//                most similar one above reid_similarity takes it under its old id.
+//                centres: its last one may have come from a box that merged two people): of
+//                those at reid_similarity or more, the one scoring highest (similarity less
+//                reid_speed_cost per m/s its person must have walked while unseen) takes it
+//                under its old id.
 //                The comparison waits until the new track has reid_after centres (and is
 //                made again at 2 x, 4 x ... reid_after, reid_checks times in all): a stray
 //                centre that lasts a frame or two (a person's part split off, a false
@@ -68,6 +70,11 @@ class HumanTracker {
     // detection at a wrong depth (repeatable runs, seeds 1-10: switches 11 -> 9, tracks 94 -> 91
     // for 90 people; seeds 1-5 unchanged).
     double reid_similarity = 0.70;
+    // Similarity taken off a lost track's claim on a new one per m/s its person must have walked
+    // (beyond the gate) while unseen: of the lost tracks that look alike (each at reid_similarity
+    // or more), the one the person need not have hurried from re-identifies them. 0 = the most
+    // similar one.
+    double reid_speed_cost = 0.15;
     int reid_after = 5;             // centres a new track has before it is compared with lost
                                     // tracks (1 = at first sight); fewer: it ends when missed
     // Comparisons of a new track with the lost ones: at reid_after centres, then again at 2 x, 4 x
@@ -124,11 +131,13 @@ class HumanTracker {
   std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
                                       const std::vector<PersonAppearance>& appearances) const;
   // The index into tracks_ of the lost track the new track `fresh` is, or -1: one that had
-  // reid_after centres, lost before `fresh` began, within reid_window and reach of its first
-  // centre, the most similar above reid_similarity.
+  // reid_after centres, lost before `fresh` began, within reid_window and reach (max_speed) of
+  // its first centre, at reid_similarity or more, the best by similarity less reid_speed_cost x
+  // the speed its person must have walked.
   int reidentify(size_t fresh) const;
-  // Whether `first` lies within gate + max_speed x elapsed time of any of old's last reid_after centres.
-  bool canReach(const HumanTrack& old, const HumanTrackPoint& first) const;
+  // The least speed (m/s) that takes the person from any of old's last reid_after centres to within
+  // the gate of `first` (0 when `first` lies within the gate of one of them).
+  double impliedSpeed(const HumanTrack& old, const HumanTrackPoint& first) const;
   // Whether `track` took its reid_after-th (or 2 x, 4 x ... up to reid_checks comparisons) centre
   // at `timestamp`.
   bool reidentificationDue(const HumanTrack& track, double timestamp) const;
