@@ -278,7 +278,7 @@ TEST(HumanTracker, ReidentifiesAPersonWhoseLastCentreWasAStrayOne) {
 
 // Two people in much the same red stand at x = 0 and x = 3 m and are both lost. 2 s later one
 // comes back at x = 0.2 m: the far track looks more alike (similarity 0.995 against the near one's
-// 0.887), but its person would have had to walk 2.3 m beyond the gate in 2 s (1.15 m/s). With
+// 0.887), but its person would have had to walk 2.3 m beyond the gate in 2 s (1.1 m/s). With
 // reid_speed_cost 0.15 the near track takes them back; without it the more similar one does.
 TEST(HumanTracker, OfTwoLostTracksThatLookAlikeTheNearOneReidentifies) {
   const PersonAppearance red = colouredPerson({40, 40, 200}), orange_red = colouredPerson({40, 70, 200});
