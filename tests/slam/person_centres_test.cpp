@@ -1,5 +1,6 @@
 // Which depths are a person's own when their mask also holds someone else's: for eq. 2's d_m and
 // for their body fit.
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -172,6 +173,66 @@ TEST(PersonCentres, ABoxStretchedByAFalseMaskComponentKeepsTheCentreOnThePerson)
   centres = personCentres(filtered, detections, K, options);
   EXPECT_NEAR(centres[0].p_c.x(), (320.0 - K.cx) / K.fx * 2.0, 1e-6);
   EXPECT_GT(std::abs(centres[0].p_c.x() - true_x), 0.6);
+}
+
+// One pose took a mask component that spreads far beside the body (the segmenter painted the wall
+// behind a seated person): an area 500 x 100 pixels, the person at 3 m in its left part, the wall at
+// 4 m. Their confident keypoints (COCO order) are the shoulders and elbows, u 110-130, v 60-120:
+// the region their body may fill is that box grown by a quarter (5 pixels) to the sides and 15
+// pixels up, and down to the image's bottom, since no ankle is among them. That is under a tenth of
+// the depths, and the rest lies behind, so it is cleared for placing and fitting them.
+TEST(OwnParts, ClearsTheWallBesideThePosesBody) {
+  const cv::Rect body = cv::Rect(cv::Point(105, 50), cv::Point(136, 150));  // image pixels
+  DualBBoxFilter::Person wide;
+  wide.detection = 0;
+  wide.area = cv::Rect(100, 50, 500, 100);
+  wide.depth = cv::Mat(100, 500, CV_32F, cv::Scalar(4.0f));
+  wide.depth(body - wide.area.tl()).setTo(3.0f);
+  wide.mask = cv::Mat(100, 500, CV_8U, cv::Scalar(255));
+  Detections detections;
+  detections.people.emplace_back();
+  std::vector<Keypoint2d>& keypoints = detections.people[0].keypoints;
+  keypoints.assign(17, Keypoint2d{0.f, 0.f, 0.1f});
+  keypoints[5] = {110.f, 60.f, 0.9f};   // left shoulder
+  keypoints[6] = {130.f, 60.f, 0.9f};   // right shoulder
+  keypoints[7] = {110.f, 120.f, 0.9f};  // left elbow
+  keypoints[8] = {130.f, 120.f, 0.9f};  // right elbow
+  SlamOptions options;
+  options.human_max_outside_pose = 0.7;
+  std::vector<DualBBoxFilter::Person> own = ownParts({wide}, detections, options);
+  ASSERT_EQ(own.size(), 1u);
+  const cv::Rect kept = body - wide.area.tl();
+  EXPECT_EQ(cv::countNonZero(own[0].depth > 0.f), kept.area());
+  EXPECT_EQ(cv::countNonZero(own[0].depth(kept) == 3.0f), kept.area());
+  EXPECT_EQ(cv::countNonZero(own[0].mask), kept.area());
+  EXPECT_EQ(cv::countNonZero(wide.depth > 0.f), 500 * 100);  // the filter's person is left alone
+
+  // With an ankle confident the body ends a quarter of the box's height below it.
+  keypoints[15] = {120.f, 100.f, 0.9f};
+  own = ownParts({wide}, detections, options);
+  const cv::Rect to_ankle = cv::Rect(cv::Point(105, 50), cv::Point(136, 136)) - wide.area.tl();
+  EXPECT_EQ(cv::countNonZero(own[0].depth > 0.f), to_ankle.area());
+  EXPECT_EQ(cv::countNonZero(own[0].depth(to_ankle) > 0.f), to_ankle.area());
+  keypoints[15].score = 0.1f;
+
+  // What lies outside at the body's depth is more of the body, and what lies in front is someone
+  // else: neither is cut off (nor is anything 0.3 m behind, within human_joint_band).
+  for (const float rest : {3.0f, 2.0f, 3.25f}) {
+    cv::Mat depth(100, 500, CV_32F, cv::Scalar(rest));
+    depth(kept).setTo(3.0f);
+    DualBBoxFilter::Person same = wide;
+    same.depth = depth;
+    EXPECT_EQ(ownParts({same}, detections, options)[0].depth.data, depth.data) << "rest at " << rest << " m";
+  }
+  // Off, or a person mostly inside their region: as they were, sharing the filter's images.
+  options.human_max_outside_pose = 1.0;
+  EXPECT_EQ(ownParts({wide}, detections, options)[0].depth.data, wide.depth.data);
+  options.human_max_outside_pose = 0.95;
+  EXPECT_EQ(ownParts({wide}, detections, options)[0].depth.data, wide.depth.data);
+  // Fewer confident keypoints than the filter's joint_min_count: nothing to tell the body by.
+  options.human_max_outside_pose = 0.7;
+  for (size_t k = 6; k <= 8; ++k) keypoints[k].score = 0.1f;
+  EXPECT_EQ(ownParts({wide}, detections, options)[0].depth.data, wide.depth.data);
 }
 
 }  // namespace

@@ -101,6 +101,80 @@ double keypointShareOnPerson(const DualBBoxFilter::Person& person, const PersonD
   return confident == 0 ? 1.0 : static_cast<double>(on) / confident;
 }
 
+namespace {
+
+// COCO order of the pose network's keypoints: 15 and 16 are the ankles.
+constexpr size_t kLeftAnkle = 15, kRightAnkle = 16;
+
+// The region (image pixels) a person's body may fill, from their keypoints scored at least
+// filter.joint_min_score: the box of those keypoints grown by a quarter of its size to the sides and
+// up, and down to the bottom of the image unless an ankle is among them. Below the lowest confident
+// keypoint the body goes on: a person so close that only their shoulders and arms are confident has
+// their chest and belly there, and a person cut by the image's bottom their legs (pf2_synth
+// halfsphere seed 7, xyz seed 14). Empty with fewer than filter.joint_min_count such keypoints.
+cv::Rect bodyRegion(const PersonDetection& detection, const SlamOptions& options) {
+  const double min_score = options.filter.joint_min_score;
+  const int min_count = std::max(1, options.filter.joint_min_count);
+  float u0 = std::numeric_limits<float>::max(), v0 = u0, u1 = std::numeric_limits<float>::lowest(), v1 = u1;
+  int confident = 0;
+  bool ankle = false;
+  for (size_t k = 0; k < detection.keypoints.size(); ++k) {
+    const Keypoint2d& p = detection.keypoints[k];
+    if (!(p.score >= min_score)) continue;
+    u0 = std::min(u0, p.u), v0 = std::min(v0, p.v), u1 = std::max(u1, p.u), v1 = std::max(v1, p.v);
+    ankle = ankle || k == kLeftAnkle || k == kRightAnkle;
+    ++confident;
+  }
+  if (confident < min_count) return {};
+  const float grow_u = 0.25f * (u1 - u0), grow_v = 0.25f * (v1 - v0);
+  const int bottom = ankle ? cvCeil(v1 + grow_v) + 1 : std::numeric_limits<int>::max() / 2;
+  return cv::Rect(cv::Point(cvFloor(u0 - grow_u), cvFloor(v0 - grow_v)), cv::Point(cvCeil(u1 + grow_u) + 1, bottom));
+}
+
+// The median of the positive depths of `depth` inside `region` (inside = true) or outside it; 0
+// when there are none.
+double medianDepth(const cv::Mat& depth, const cv::Rect& region, bool inside) {
+  std::vector<float> depths;
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* row = depth.ptr<float>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (row[u] > 0.f && region.contains(cv::Point(u, v)) == inside) depths.push_back(row[u]);
+    }
+  }
+  if (depths.empty()) return 0.0;
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  return depths[depths.size() / 2];
+}
+
+}  // namespace
+
+std::vector<DualBBoxFilter::Person> ownParts(const std::vector<DualBBoxFilter::Person>& people,
+                                             const Detections& detections, const SlamOptions& options) {
+  std::vector<DualBBoxFilter::Person> own = people;
+  if (!(options.human_max_outside_pose < 1.0)) return own;
+  for (DualBBoxFilter::Person& person : own) {
+    if (person.detection < 0 || person.detection >= static_cast<int>(detections.people.size())) continue;
+    const cv::Rect claimed = (bodyRegion(detections.people[person.detection], options) - person.area.tl()) &
+                             cv::Rect(0, 0, person.depth.cols, person.depth.rows);
+    const int all = cv::countNonZero(person.depth > 0.f);
+    if (all == 0 || claimed.empty()) continue;
+    const int inside = cv::countNonZero(person.depth(claimed) > 0.f);
+    if (all - inside <= options.human_max_outside_pose * all) continue;
+    // Only what lies behind the body is cut off: the rest is more of the same body (a close person
+    // whose confident keypoints cover a part of them) or someone in front, who has no pose of their
+    // own and is placed as before.
+    const double body = medianDepth(person.depth, claimed, true);
+    if (!(medianDepth(person.depth, claimed, false) > body + options.human_joint_band)) continue;
+    cv::Mat depth = cv::Mat::zeros(person.depth.size(), person.depth.type());
+    cv::Mat mask = cv::Mat::zeros(person.mask.size(), person.mask.type());
+    person.depth(claimed).copyTo(depth(claimed));
+    if (mask.size() == person.depth.size()) person.mask(claimed).copyTo(mask(claimed));
+    person.depth = depth;
+    person.mask = mask;
+  }
+  return own;
+}
+
 cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band) {
   if (band.empty()) return person.depth;
   // A person in front whose depths entered the mask would draw the fit's depth terms (and the

@@ -175,6 +175,9 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "humans.joint_band applies when at least this share of the person's depths lie in it");
   s.boolean("humans.box_from_depths", &o.human_box_from_depths,
             "a centre's box is that of the depths d_m rests on; false = the detector's box (eq. 2 as written)");
+  s.number("humans.max_outside_pose", &o.human_max_outside_pose, 0.01, 1.0, "share",
+           "a person more of whose depths lie outside the region their keypoints give, and behind it, is placed and "
+           "fitted on those inside (1 = never)");
   s.number("humans.box_trim", &o.human_box_trim, 0.0, 0.45, "fraction",
            "humans.box_from_depths: each side of the box moved in past this share of the depths");
   s.number("humans.min_area", &o.human_min_area, 0.0, 1.0, "fraction", "no centre for a person covering less of the image");

@@ -347,13 +347,15 @@ class SlamSystem::Pipeline {
                                                const DualBBoxFilter::Result& filtered, const TrackResult& result,
                                                FrameRecord* record) {
     ScopedStageTimer timer(stats_, "humans");
-    const std::vector<PersonCentre> centres = personCentres(filtered, detections, frame.intrinsics, options_);
+    DualBBoxFilter::Result own = filtered;  // images shared; the people as the humans stage sees them
+    own.people = ownParts(filtered.people, detections, options_);
+    const std::vector<PersonCentre> centres = personCentres(own, detections, frame.intrinsics, options_);
     std::vector<Eigen::Vector3d> people_w;
     std::vector<PersonAppearance> appearances;
     if (record->has_pose) {
       for (const PersonCentre& centre : centres) {
         people_w.push_back(humanCentreInWorld(result.T_w_c, centre.p_c));
-        const DualBBoxFilter::Person& person = filtered.people[centre.person];
+        const DualBBoxFilter::Person& person = own.people[centre.person];
         appearances.push_back(personAppearance(frame.rgb, person.area, person.mask));
       }
     }
@@ -363,7 +365,7 @@ class SlamSystem::Pipeline {
       const Eigen::Vector3d& p_c = centres[k].p_c;
       record->people_c.emplace_back(ids[k], p_c);
       people.push_back({ids[k], p_c, record->has_pose ? people_w[k] : p_c});
-      if (body_fitter_ && record->has_pose) offerBody(frame, detections, filtered, centres[k], ids[k], result);
+      if (body_fitter_ && record->has_pose) offerBody(frame, detections, own, centres[k], ids[k], result);
     }
     return people;
   }

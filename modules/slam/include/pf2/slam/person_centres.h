@@ -58,6 +58,16 @@ double keypointShareOnPerson(const DualBBoxFilter::Person& person, const PersonD
 // person.depth itself (shared) when the band is empty. Thread safe.
 cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band);
 
+// The people as the humans stage sees them: each of `people` whose detection (in `detections`)
+// has at least filter.joint_min_count keypoints scored filter.joint_min_score or more, more than
+// human_max_outside_pose of whose depths lie outside the region their body may fill (the box of
+// those keypoints grown by a quarter of its size to the sides and up, and down to the image's
+// bottom unless an ankle is among them), and the median of those outside more than
+// human_joint_band behind the median of those inside, with its depth and mask cleared outside that
+// region; the others as they are (sharing their images). Thread safe.
+std::vector<DualBBoxFilter::Person> ownParts(const std::vector<DualBBoxFilter::Person>& people,
+                                             const Detections& detections, const SlamOptions& options);
+
 // One person the filter separated, placed by eq. 2.
 struct PersonCentre {
   size_t person = 0;      // index into the filter's people

@@ -75,6 +75,12 @@ struct SlamOptions {
   // 0.66 m beside them, and their track took turns with a second one). false = the detector's box.
   bool human_box_from_depths = true;
   double human_box_trim = 0.02;
+  // A person with keypoints more than this share of whose depths D_h^t lie outside the region
+  // their body may fill (from their confident keypoints, the filter's joint_min_score and
+  // joint_min_count; ownParts in person_centres.h), and behind them, is placed, described and
+  // fitted with only the depths inside it: the segmenter painted the wall beside them and their
+  // one pose took the whole component. Removal still takes all of it. 1 = never.
+  double human_max_outside_pose = 0.7;
   // A person whose d_m rests on fewer depths than this fraction of the image's pixels gets no
   // centre: a sliver of a person at the image border or behind another gives a box centre far
   // from the body and a depth histogram that may be the other person's (0 = every person).
