@@ -532,29 +532,35 @@ cv::Mat withoutPosedPeople(cv::Mat pixels, const std::vector<FilterBox>& boxes, 
   return pixels;
 }
 
-// The known static depth under each person's dilated mask that lies more than `margin` behind
-// their interval and that an earlier rule removed (CV_8U, 255); empty when there is none.
-cv::Mat staticBehindMasks(const cv::Mat& depth, const cv::Mat& known, const std::vector<FilterBox>& boxes,
-                          const std::vector<DepthInterval>& intervals, float margin, const cv::Mat& state) {
-  cv::Mat behind;
+// The known static depth under each person's dilated mask that an earlier rule removed and that
+// lies more than `margin` behind their interval, or in the ring the dilation added around the
+// segmenter's own mask (CV_8U, 255); empty when there is none. The ring catches the mixed pixels
+// at a person's outline; where the prediction confirms the depth there, it is the background
+// (pf2_synth: 0.3-0.5 points more static depth kept, 0.03-0.09 fewer of the people removed).
+cv::Mat staticUnderMasks(const cv::Mat& depth, const cv::Mat& known, const std::vector<FilterBox>& boxes,
+                         const Detections& detections, const std::vector<DepthInterval>& intervals, float margin,
+                         const cv::Mat& state) {
+  cv::Mat kept;
   for (size_t t = 0; t < boxes.size(); ++t) {
     const FilterBox& b = boxes[t];
     if (b.mask.empty() || !intervals[t].valid) continue;
-    if (behind.empty()) behind = cv::Mat::zeros(depth.size(), CV_8U);
+    if (kept.empty()) kept = cv::Mat::zeros(depth.size(), CV_8U);
     const float far = static_cast<float>(intervals[t].max) + margin;
     const cv::Rect& a = b.mask_area;
+    const cv::Mat& segmented = detections.people[b.detection].mask;  // undilated, image-sized
     for (int v = 0; v < a.height; ++v) {
       const float* d = depth.ptr<float>(v + a.y) + a.x;
       const uint8_t* k = known.ptr<uint8_t>(v + a.y) + a.x;
       const uint8_t* s = state.ptr<uint8_t>(v + a.y) + a.x;
       const uint8_t* m = b.mask.ptr<uint8_t>(v);
-      uint8_t* out = behind.ptr<uint8_t>(v + a.y) + a.x;
+      const uint8_t* own = segmented.ptr<uint8_t>(v + a.y) + a.x;
+      uint8_t* out = kept.ptr<uint8_t>(v + a.y) + a.x;
       for (int u = 0; u < a.width; ++u) {
-        if (m[u] && k[u] && s[u] != kKept && d[u] > far) out[u] = 255;
+        if (m[u] && k[u] && s[u] != kKept && (d[u] > far || !own[u])) out[u] = 255;
       }
     }
   }
-  return behind;
+  return kept;
 }
 
 // D_b keeps the depth at `pixels` (CV_8U, 255), which are reported as kept under the masks.
@@ -718,15 +724,15 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   const cv::Mat dynamic =
       o.geometric ? geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation) : cv::Mat();
   const cv::Mat known = dynamic.empty() ? cv::Mat() : geometric_.knownStatic(depth, dynamic);
-  const cv::Mat behind = o.keep_static_behind_masks && !known.empty()
-                             ? staticBehindMasks(depth, known, boxes, intervals, human_margin, state_)
-                             : cv::Mat();
+  const cv::Mat under_masks = o.keep_static_behind_masks && !known.empty()
+                                  ? staticUnderMasks(depth, known, boxes, detections, intervals, human_margin, state_)
+                                  : cv::Mat();
   if (!known.empty()) keepOutsideMasks(withoutPosedPeople(known, boxes, detections, o, state_), boxes, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);
   // After the people and the temporal guard: they still see these pixels as the person's.
-  if (!behind.empty()) keepUnderMasks(depth, behind, &result);
+  if (!under_masks.empty()) keepUnderMasks(depth, under_masks, &result);
   return result;
 }
 

@@ -60,8 +60,8 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->boolean("filter.keep_static", &f->geometric_addition.keep_static,
              "depth the prediction knows as static is kept unless a mask or dynamic evidence covers it");
   s->boolean("filter.keep_behind_masks", &f->keep_static_behind_masks,
-             "with keep_static, known static depth under a person's mask and behind their depth is kept for the map "
-             "(pf2_slam's tracker leaves it out)");
+             "with keep_static, known static depth under a person's mask that lies behind their depth, or in the ring "
+             "filter.mask_dilation added, is kept for the map (pf2_slam's tracker leaves it out)");
 }
 
 }  // namespace

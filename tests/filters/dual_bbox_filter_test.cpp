@@ -653,6 +653,45 @@ TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheWallUnderTheMaskAndReportsIt) 
   EXPECT_EQ(run(true).static_depth.at<float>(20, 16), 0.f);
 }
 
+// keep_static_behind_masks, the dilation's ring: known static depth the mask's dilation took around
+// the segmenter's own mask is kept and reported even at the person's depth (a chair beside them);
+// the person's outline the segmenter missed is in front of the prediction, so it stays removed, and
+// so does the person's depth under their own mask that the prediction holds.
+TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheKnownStaticRingOfTheDilation) {
+  Scene scene;
+  const cv::Rect chair(25, 15, 1, 6);  // beside the person, at their depth
+  scene.depth(chair).setTo(1.55f);
+  PersonDetection p = person(14, 9, 26, 26);
+  p.mask = cv::Mat::zeros(30, 40, CV_8U);
+  p.mask(cv::Rect(16, 10, 9, 15)).setTo(255);  // misses the person's column 15
+  cv::Mat prediction = scene.depth.clone();
+  prediction(cv::Rect(15, 10, 10, 15)).setTo(3.02f);  // the wall behind the person...
+  prediction.at<float>(12, 20) = 1.52f;               // ... but one pixel of them stood still
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(prediction);
+  evidence->setStaticMargin(0.05);
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.mask_dilation = 1;
+  o.geometric = true;
+  o.geometric_addition.keep_static = true;
+  auto run = [&](bool keep) {
+    o.keep_static_behind_masks = keep;
+    DualBBoxFilter filter(o);
+    filter.setDynamicEvidence(evidence);
+    return filter.filter(scene.depth, detections({p}));
+  };
+  const auto off = run(false);
+  EXPECT_EQ(cv::countNonZero(off.static_depth(chair)), 0);
+  const auto on = run(true);
+  EXPECT_EQ(cv::countNonZero(on.static_depth(chair)), chair.area());
+  ASSERT_FALSE(on.kept_under_masks.empty());
+  EXPECT_EQ(cv::countNonZero(on.kept_under_masks(chair)), chair.area());
+  EXPECT_EQ(cv::countNonZero(on.static_depth(cv::Rect(15, 10, 1, 15))), 0);  // the missed outline
+  EXPECT_EQ(on.static_depth.at<float>(12, 20), 0.f);                          // under the own mask
+  EXPECT_EQ(on.removed.at<uint8_t>(12, 20), 255);
+}
+
 // keep_static and a person the pose network found without a mask: what their box rule labelled on
 // their skeleton stays removed even where the prediction knows it as static (a person in view
 // since the first keyframe); the rest of the box is given back as for any box.

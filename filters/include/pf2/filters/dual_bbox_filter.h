@@ -25,7 +25,8 @@
 //               that evidence is removed whole (candidate_min_dynamic). With keep_static, depth
 //               the evidence knows as static is given back where only the box, ring or temporal
 //               rule took it, except on a mask and on the skeleton of a person posed without one;
-//               with keep_static_behind_masks also on a mask where it lies behind the person.
+//               with keep_static_behind_masks also on a mask where it lies behind the person or
+//               in the ring the mask's dilation added.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -161,7 +162,8 @@ class DualBBoxFilter {
     GeometricAddition::Options geometric_addition;  // candidates and static evidence (with geometric)
     // With keep_static: depth under a person's dilated mask that the evidence knows as static and
     // that lies more than human_margin behind the person's interval (the wall the segmenter's
-    // blurred edge, or a real person's hair, spills over) is kept in D_b too, and reported in
+    // blurred edge, or a real person's hair, spills over) or in the ring mask_dilation added
+    // around the segmenter's own mask is kept in D_b too, and reported in
     // Result::kept_under_masks for callers whose colour term should leave it out.
     bool keep_static_behind_masks = false;
   };
