@@ -276,6 +276,52 @@ TEST(HumanTracker, ReidentifiesAPersonWhoseLastCentreWasAStrayOne) {
   EXPECT_EQ(tracker.resolvedId(2), 1);
 }
 
+// A person in red stands 3 m in front of the camera (at the origin, looking along z) and is hidden
+// by someone in the same red who steps in front of them, 0.8 m nearer on the line of sight (beyond
+// the lost track's gate, within its reach). The newcomer is the one who hid them: their track
+// keeps its own id, and the hidden person, back a second later, is re-identified under theirs.
+// Without the camera's position (or with occluder_margin 0) the newcomer took the hidden person's
+// id, and the person came back as someone new; a newcomer first seen later than occluder_window
+// after the loss may be the person who walked towards the camera.
+TEST(HumanTracker, WhoeverHidesALostPersonDoesNotTakeTheirId) {
+  const PersonAppearance red = colouredPerson({40, 40, 200});
+  const Eigen::Vector3d camera_w = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d hidden(0, 0, 3), in_front(0, 0, 2.2);
+  struct Ids {
+    int newcomer, back;
+  };
+  const auto run = [&](const HumanTracker::Options& options, bool with_camera, int hidden_frames) {
+    HumanTracker tracker(options);
+    const auto camera = [&] { return with_camera ? std::optional<Eigen::Vector3d>(camera_w) : std::nullopt; };
+    int f = 0;
+    for (; f < 30; ++f) tracker.update(f / kRate, {hidden}, {red}, camera());
+    for (; f < 30 + hidden_frames; ++f) tracker.update(f / kRate, {}, {}, camera());
+    Ids ids{0, 0};
+    const int newcomer_end = f + 2 * options.reid_after;
+    for (; f < newcomer_end; ++f) ids.newcomer = tracker.update(f / kRate, {in_front}, {red}, camera())[0];
+    std::vector<int> both;
+    for (const int end = f + 2 * options.reid_after; f < end; ++f) {
+      both = tracker.update(f / kRate, {in_front, hidden}, {red, red}, camera());
+    }
+    EXPECT_EQ(both[0], ids.newcomer);
+    ids.back = both[1];
+    return ids;
+  };
+  HumanTracker::Options options;
+  ASSERT_GT((in_front - hidden).norm(), options.gate * std::sqrt(1.0 + 1.0 / 15) + 6 / kRate * options.gate_growth);
+  Ids ids = run(options, true, 6);
+  EXPECT_EQ(ids.newcomer, 2);
+  EXPECT_EQ(ids.back, 1);
+  ids = run(options, false, 6);
+  EXPECT_EQ(ids.newcomer, 1);
+  EXPECT_EQ(ids.back, 3);
+  ids = run(options, true, 40);  // first seen 1.3 s after the loss
+  EXPECT_EQ(ids.newcomer, 1);
+  options.occluder_margin = 0.0;
+  ids = run(options, true, 6);
+  EXPECT_EQ(ids.newcomer, 1);
+}
+
 // Two people in much the same red stand at x = 0 and x = 3 m and are both lost. 2 s later one
 // comes back at x = 0.2 m: the far track looks more alike (similarity 0.995 against the near one's
 // 0.887), but its person would have had to walk 2.3 m beyond the gate in 2 s (1.1 m/s). With

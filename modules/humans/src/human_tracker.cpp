@@ -15,6 +15,7 @@ HumanTracker::HumanTracker(const Options& options) : options_(options) {}
 void HumanTracker::reset() {
   tracks_.clear();
   appearance_.clear();
+  first_camera_w_.clear();
   live_.clear();
   aliases_.clear();
   next_id_ = 1;
@@ -135,7 +136,7 @@ int HumanTracker::reidentify(size_t fresh) const {
     const double speed = impliedSpeed(tracks_[t], first);
     if (speed > options_.max_speed) continue;
     const double similarity = appearanceSimilarity(appearance, appearance_[t]);
-    if (similarity < options_.reid_similarity) continue;
+    if (similarity < options_.reid_similarity || occludedBy(tracks_[t], fresh)) continue;
     // Of the lost tracks that look alike, the one its person need not have hurried from.
     const double score = similarity - options_.reid_speed_cost * speed;
     if (score > best_score) best_score = score, best = static_cast<int>(t);
@@ -160,6 +161,33 @@ double HumanTracker::impliedSpeed(const HumanTrack& old, const HumanTrackPoint& 
   return least;
 }
 
+// A person's half width and their centre's noise: a centre this near the line of sight to another
+// stands in front of them.
+constexpr double kLineOfSightRadius = 0.3;  // metres
+
+bool HumanTracker::occludedBy(const HumanTrack& old, size_t fresh) const {
+  const std::optional<Eigen::Vector3d>& camera_w = first_camera_w_[fresh];
+  const HumanTrackPoint& first = tracks_[fresh].points.front();
+  if (!(options_.occluder_margin > 0.0) || !camera_w ||
+      first.timestamp - old.points.back().timestamp > options_.occluder_window) {
+    return false;
+  }
+  const Eigen::Vector3d to_first = first.p_w - *camera_w;
+  const size_t considered = std::min(old.points.size(), confirmedCentres());
+  for (size_t k = old.points.size() - considered; k < old.points.size(); ++k) {
+    const Eigen::Vector3d to_old = old.points[k].p_w - *camera_w;
+    const double range = to_old.norm();
+    if (!(range > 0.0)) continue;
+    const Eigen::Vector3d ray = to_old / range;
+    const double along = to_first.dot(ray);
+    if (along > 0.0 && along < range - options_.occluder_margin &&
+        (to_first - along * ray).norm() < kLineOfSightRadius) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // The new track's centres become the old track's (all of them later than the old one's last),
 // its appearance is taken in, its id becomes an alias, and the old track is the live one.
 void HumanTracker::merge(size_t fresh, size_t old) {
@@ -172,6 +200,7 @@ void HumanTracker::merge(size_t fresh, size_t old) {
   live_.erase(std::remove_if(live_.begin(), live_.end(), [&](const Live& l) { return l.track == old; }), live_.end());
   tracks_.erase(tracks_.begin() + static_cast<std::ptrdiff_t>(fresh));
   appearance_.erase(appearance_.begin() + static_cast<std::ptrdiff_t>(fresh));
+  first_camera_w_.erase(first_camera_w_.begin() + static_cast<std::ptrdiff_t>(fresh));
   for (Live& l : live_) {
     if (l.track == fresh) l.track = old;
     else if (l.track > fresh) --l.track;
@@ -224,7 +253,8 @@ int HumanTracker::resolvedId(int id) const {
 }
 
 std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
-                                      const std::vector<PersonAppearance>& appearances) {
+                                      const std::vector<PersonAppearance>& appearances,
+                                      const std::optional<Eigen::Vector3d>& camera_w) {
   if (!appearances.empty() && appearances.size() != centres_w.size()) {
     throw Error("HumanTracker::update: " + std::to_string(appearances.size()) + " appearances for " +
                 std::to_string(centres_w.size()) + " centres");
@@ -254,6 +284,7 @@ std::vector<int> HumanTracker::update(double timestamp, const std::vector<Eigen:
     fresh.id = next_id_++;
     tracks_.push_back(std::move(fresh));
     appearance_.emplace_back();
+    first_camera_w_.push_back(camera_w);
     live_.push_back({tracks_.size() - 1, 0});
     observe(tracks_.size() - 1, timestamp, centres_w[c], appearance(c));
     ids[c] = tracks_.back().id;

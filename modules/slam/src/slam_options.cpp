@@ -209,6 +209,11 @@ void humanSettings(SlamOptions& o, Settings& s) {
             "(1 = at first sight)");
   s.integer("humans.reid_checks", &h.reid_checks, 1, 8, "comparisons",
             "a new track not re-identified is compared again at 2 x, 4 x ... humans.reid_after centres (1 = once)");
+  s.number("humans.occluder_margin", &h.occluder_margin, 0.0, 5.0, "metres",
+           "a new track first seen this much nearer the camera than a lost track's last centres, on the line of "
+           "sight to them, is not re-identified as it (the person who hid them; 0 = off)");
+  s.number("humans.occluder_window", &h.occluder_window, 0.0, 60.0, "seconds",
+           "humans.occluder_margin applies to tracks lost at most this long before the new one was first seen");
 }
 
 void bodySettings(SlamOptions& o, Settings& s) {

@@ -359,7 +359,9 @@ class SlamSystem::Pipeline {
         appearances.push_back(personAppearance(frame.rgb, person.area, person.mask));
       }
     }
-    const std::vector<int> ids = humans_.update(frame.timestamp, people_w, appearances);
+    const std::vector<int> ids = humans_.update(frame.timestamp, people_w, appearances,
+                                                record->has_pose ? std::optional<Eigen::Vector3d>(result.T_w_c.translation())
+                                                                 : std::nullopt);
     std::vector<FrameResult::Person> people;
     for (size_t k = 0; k < ids.size(); ++k) {
       const Eigen::Vector3d& p_c = centres[k].p_c;

@@ -32,6 +32,7 @@
 //                a person's centre later.
 // Other unmatched centres start new tracks; ids are 1, 2, 3, ... in order of appearance, never reused.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,15 @@ class HumanTracker {
     // runs of pf2_synth seeds 1-5: one identity switch fewer (halfsphere seed 2), nothing else
     // changed. 0 = every centre's appearance is learned.
     double appearance_crowd = 0.6;
+    // Metres: a new track whose first centre stands this much nearer the camera than one of a lost
+    // track's last reid_after centres, on the line of sight to it, is not re-identified as that
+    // track when it was lost at most occluder_window seconds before: it is the person who walked
+    // in front and hid them (whose pixels also pulled the hidden one's last centres towards
+    // them). Without it, on pf2_synth a seated or standing person hidden by someone entering the
+    // view gave their id to the newcomer and came back under a new one. 0 = off. Needs the
+    // camera's position (update()).
+    double occluder_margin = 0.3;
+    double occluder_window = 1.0;  // seconds (see occluder_margin)
   };
 
   HumanTracker() : HumanTracker(Options()) {}
@@ -103,8 +113,11 @@ class HumanTracker {
   // it for every frame, with no centres when nobody was seen or the frame has no pose, so that
   // missed frames are counted. NOT thread safe.
   // appearances: one per centre (or none at all); an empty one is unknown and never re-identified.
+  // camera_w: the camera's position (world frame, metres) when the frame was taken, for
+  // occluder_margin; without it that rule is off for the tracks this frame starts.
   std::vector<int> update(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
-                          const std::vector<PersonAppearance>& appearances = {});
+                          const std::vector<PersonAppearance>& appearances = {},
+                          const std::optional<Eigen::Vector3d>& camera_w = std::nullopt);
 
   // Every track started so far (finished ones too), in id order, with all its points. NOT thread
   // safe against update().
@@ -138,6 +151,9 @@ class HumanTracker {
   // The least speed (m/s) that takes the person from any of old's last reid_after centres to within
   // the gate of `first` (0 when `first` lies within the gate of one of them).
   double impliedSpeed(const HumanTrack& old, const HumanTrackPoint& first) const;
+  // Whether the new track `fresh` first stood in front of where the lost track `old` was last
+  // seen, on the camera's line of sight to it, soon after (occluder_margin, occluder_window).
+  bool occludedBy(const HumanTrack& old, size_t fresh) const;
   // Whether `track` took its reid_after-th (or 2 x, 4 x ... up to reid_checks comparisons) centre
   // at `timestamp`.
   bool reidentificationDue(const HumanTrack& track, double timestamp) const;
@@ -160,6 +176,7 @@ class HumanTracker {
   Options options_;
   std::vector<HumanTrack> tracks_;
   std::vector<PersonAppearance> appearance_;  // per track, running mean of its views
+  std::vector<std::optional<Eigen::Vector3d>> first_camera_w_;  // per track, the camera at its first centre
   std::vector<Live> live_;
   std::map<int, int> aliases_;  // id of a merged new track -> the id it was merged into
   int next_id_ = 1;
