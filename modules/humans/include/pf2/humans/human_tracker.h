@@ -20,7 +20,9 @@
 //                centres: its last one may have come from a box that merged two people): of
 //                those at reid_similarity or more, the one scoring highest (similarity less
 //                reid_speed_cost per m/s its person must have walked while unseen) takes it
-//                under its old id.
+//                under its old id. A lost track is not offered to a new one that first stood
+//                in front of where it was last seen, on the camera's line of sight, soon after
+//                it was lost (occluder_margin): that is the person who hid them.
 //                The comparison waits until the new track has reid_after centres (and is
 //                made again at 2 x, 4 x ... reid_after, reid_checks times in all): a stray
 //                centre that lasts a frame or two (a person's part split off, a false
