@@ -616,25 +616,31 @@ TEST(PredictedDepthEvidence, TheFloorPlaneIsStaticWhatStandsOnItIsNot) {
 // keep_static_behind_masks: the known static depth under a person's mask that lies behind their
 // interval by more than human_margin (the wall the mask's edge spills over) is kept and reported;
 // the person's own depth under the mask stays removed, known static or not.
+// One masked person through a filter with the static evidence of `prediction` (margin 0.05 m),
+// keep_static on and keep_static_behind_masks as given.
+DualBBoxFilter::Result filterWithPrediction(const cv::Mat& depth, const PersonDetection& p, const cv::Mat& prediction,
+                                            int mask_dilation, bool keep_behind) {
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(prediction);
+  evidence->setStaticMargin(0.05);
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.mask_dilation = mask_dilation;
+  o.geometric = true;
+  o.geometric_addition.keep_static = true;
+  o.keep_static_behind_masks = keep_behind;
+  DualBBoxFilter filter(o);
+  filter.setDynamicEvidence(evidence);
+  return filter.filter(depth, detections({p}));
+}
+
 TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheWallUnderTheMaskAndReportsIt) {
   const Scene scene;
   PersonDetection p = person(14, 9, 26, 26);
   p.mask = cv::Mat::zeros(30, 40, CV_8U);
   p.mask(cv::Rect(15, 10, 10, 15)).setTo(255);  // holds the 1.9 m pixel at row 20, col 16 too
-  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
-  evidence->setPrediction(scene.depth.clone());
-  evidence->setStaticMargin(0.05);
-  DualBBoxFilter::Options o = testOptions();
-  o.use_mask = true;
-  o.mask_dilation = 0;
-  o.geometric = true;
-  o.geometric_addition.keep_static = true;
-  auto run = [&](bool keep_behind) {
-    o.keep_static_behind_masks = keep_behind;
-    DualBBoxFilter filter(o);
-    filter.setDynamicEvidence(evidence);
-    return filter.filter(scene.depth, detections({p}));
-  };
+  cv::Mat prediction = scene.depth.clone();
+  auto run = [&](bool keep_behind) { return filterWithPrediction(scene.depth, p, prediction, 0, keep_behind); };
   const auto off = run(false);
   EXPECT_EQ(off.static_depth.at<float>(20, 16), 0.f);  // under the mask: removed
   EXPECT_TRUE(off.kept_under_masks.empty());
@@ -647,9 +653,7 @@ TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheWallUnderTheMaskAndReportsIt) 
   EXPECT_EQ(cv::countNonZero(on.static_depth(cv::Rect(15, 10, 10, 15))), 1);  // the person stays removed
   EXPECT_EQ(on.people.size(), off.people.size());
   // Not known static (no prediction there): the mask stands.
-  cv::Mat partial = scene.depth.clone();
-  partial.at<float>(20, 16) = 0.f;
-  evidence->setPrediction(partial);
+  prediction.at<float>(20, 16) = 0.f;
   EXPECT_EQ(run(true).static_depth.at<float>(20, 16), 0.f);
 }
 
@@ -667,20 +671,7 @@ TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheKnownStaticRingOfTheDilation) 
   cv::Mat prediction = scene.depth.clone();
   prediction(cv::Rect(15, 10, 10, 15)).setTo(3.02f);  // the wall behind the person...
   prediction.at<float>(12, 20) = 1.52f;               // ... but one pixel of them stood still
-  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
-  evidence->setPrediction(prediction);
-  evidence->setStaticMargin(0.05);
-  DualBBoxFilter::Options o = testOptions();
-  o.use_mask = true;
-  o.mask_dilation = 1;
-  o.geometric = true;
-  o.geometric_addition.keep_static = true;
-  auto run = [&](bool keep) {
-    o.keep_static_behind_masks = keep;
-    DualBBoxFilter filter(o);
-    filter.setDynamicEvidence(evidence);
-    return filter.filter(scene.depth, detections({p}));
-  };
+  auto run = [&](bool keep) { return filterWithPrediction(scene.depth, p, prediction, 1, keep); };
   const auto off = run(false);
   EXPECT_EQ(cv::countNonZero(off.static_depth(chair)), 0);
   const auto on = run(true);
