@@ -20,6 +20,7 @@
 #include "pf2/body/body_fitter.h"
 #include "pf2/core/command_line.h"
 #include "pf2/core/error.h"
+#include "pf2/core/median.h"
 #include "pf2/core/text_lines.h"
 #include "pf2/detection/detector_factory.h"
 #include "pf2/detection/pose_refiner.h"
@@ -97,11 +98,7 @@ double mean(const std::vector<double>& v) {
   for (double x : v) s += x;
   return v.empty() ? 0.0 : s / v.size();
 }
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+double median(std::vector<double> v) { return pf2::upperMedian(&v); }
 
 int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "pf2/core/error.h"
+#include "pf2/core/median.h"
 #include "image_ops.h"
 
 namespace pf2 {
@@ -81,9 +82,7 @@ float medianDepth(const cv::Mat& depth, const cv::Mat& mask) {
       if (m[u] && d[u] > 0.f) values.push_back(d[u]);
     }
   }
-  if (values.empty()) return 0.f;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
+  return upperMedian(&values);
 }
 
 }  // namespace

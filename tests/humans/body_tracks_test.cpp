@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/core/median.h"
 #include "pf2/humans/body_track_fitter.h"
 #include "pf2/humans/body_tracks.h"
 #include "pf2/humans/body_tracks_io.h"
@@ -531,8 +532,7 @@ TEST(BodyTrackFitter, FitsTheRefinedKeypointsInTheFramesPixels) {
       d.push_back(std::hypot(K.fx * p.x() / p.z() + K.cx - true_keypoints[k].u,
                              K.fy * p.y() / p.z() + K.cy - true_keypoints[k].v));
     }
-    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-    return d[d.size() / 2];
+    return upperMedian(&d);
   };
   BodyTrackFitter refined(model(), options);
   refined.offer(observation);

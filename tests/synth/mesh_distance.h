@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "pf2/core/median.h"
+
 namespace pf2 {
 namespace test {
 
@@ -60,9 +62,7 @@ class MeshDistance {
 };
 
 inline double median(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
+  return upperMedian(&values, std::numeric_limits<double>::quiet_NaN());
 }
 
 }  // namespace test

@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "pf2/core/error.h"
+#include "pf2/core/median.h"
 
 namespace pf2 {
 
@@ -259,12 +260,6 @@ bool usable(const BodyKeypoint& kp, double min_confidence) {
          kp.confidence >= min_confidence;
 }
 
-double median(std::vector<double>* values) {
-  auto middle = values->begin() + values->size() / 2;
-  std::nth_element(values->begin(), middle, values->end());
-  return *middle;
-}
-
 // Rotation from the body frame (y up, facing +z, left +x) to the camera frame for a body standing
 // along up_c and facing `forward_c` (made orthogonal to up_c).
 Eigen::Matrix3d bodyRotation(const Eigen::Vector3d& up_c, const Eigen::Vector3d& forward_c) {
@@ -487,7 +482,7 @@ BodyFitter::Observations BodyFitter::observe(const BodyFitInput& input, const Ca
   }
   for (int k = 0; k < kCocoKeypointCount; ++k) {
     if (!near[k].empty()) {
-      seen.surface[k] = median(&near[k]);
+      seen.surface[k] = upperMedian(&near[k]);
       ++result->depth_keypoints;
     }
   }

@@ -1,4 +1,5 @@
 #include "pf2/detection/keypoint_depth.h"
+#include "pf2/core/median.h"
 
 #include <algorithm>
 
@@ -15,8 +16,7 @@ double medianDepthAtKeypoints(const cv::Mat& depth, const cv::Point& origin, con
     if (d > 0.f && d < max_depth) depths.push_back(d);
   }
   if (static_cast<int>(depths.size()) < min_count) return 0.0;
-  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-  return depths[depths.size() / 2];
+  return upperMedian(&depths);
 }
 
 }  // namespace pf2

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pf2/core/error.h"
+#include "pf2/core/median.h"
 
 namespace pf2 {
 
@@ -18,9 +19,7 @@ double medianDepth(const std::vector<Eigen::Vector3d>& points_c) {
   if (points_c.empty()) return 0.0;
   std::vector<double> depths(points_c.size());
   for (size_t i = 0; i < points_c.size(); ++i) depths[i] = points_c[i].z();
-  const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
-  std::nth_element(depths.begin(), middle, depths.end());
-  return *middle;
+  return upperMedian(&depths);
 }
 
 BodyFitter::Options withTemporal(BodyFitter::Options options, double weight_temporal, bool fit_shape) {

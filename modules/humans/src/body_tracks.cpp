@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pf2/humans/visible_centre.h"
+#include "pf2/core/median.h"
 
 namespace pf2 {
 
@@ -137,8 +138,7 @@ Eigen::Vector3d medianVector(const std::vector<Eigen::Vector3d>& vectors) {
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<double> values;
     for (const Eigen::Vector3d& v : vectors) values.push_back(v[axis]);
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    median[axis] = values[values.size() / 2];
+    median[axis] = upperMedian(&values);
   }
   return median;
 }

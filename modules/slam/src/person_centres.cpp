@@ -7,6 +7,7 @@
 
 #include "pf2/detection/keypoint_depth.h"
 #include "pf2/humans/human_position.h"
+#include "pf2/core/median.h"
 
 namespace pf2 {
 
@@ -141,9 +142,7 @@ double medianDepth(const cv::Mat& depth, const cv::Rect& region, bool inside) {
       if (row[u] > 0.f && region.contains(cv::Point(u, v)) == inside) depths.push_back(row[u]);
     }
   }
-  if (depths.empty()) return 0.0;
-  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-  return depths[depths.size() / 2];
+  return upperMedian(&depths);
 }
 
 }  // namespace

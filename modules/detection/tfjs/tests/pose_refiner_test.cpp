@@ -8,6 +8,7 @@
 
 #include "pf2/body/body_fitter.h"
 #include "pf2/core/error.h"
+#include "pf2/core/median.h"
 #include "pf2/detection/learned_models.h"
 #include "pf2/detection/movenet_detector.h"
 #include "pf2/detection/pose_refiner.h"
@@ -16,10 +17,7 @@
 namespace pf2 {
 namespace {
 
-double median(std::vector<double> values) {
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
+double median(std::vector<double> values) { return upperMedian(&values); }
 
 TEST(PoseRefiner, CropIsASquareAroundTheBoxWithTheMargin) {
   const cv::Rect2f crop = refinementCrop({100, 50, 140, 250}, 0.1);  // 40 x 200 px
