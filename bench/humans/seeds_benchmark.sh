@@ -25,6 +25,8 @@ for tool in apps/pf2_synth apps/pf2_slam bench/humans/pf2_humans_eval; do
 done
 mkdir -p "$work"
 source "$root/bench/bench_lib.sh"
+rows="$(mktemp "$work/rows.XXXXXX")"  # one line per run, for the sums; gone however the script ends
+trap 'rm -f "$rows"' EXIT
 
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
@@ -43,7 +45,7 @@ for seed in $(seq "$first" "$last"); do
     met=$(awk -v r="$rmse" -v s="$switches" -v t="$tracks" 'BEGIN { print (r <= 0.05 && s == 0 && t == 3) ? "yes" : "no" }')
     printf '| %s | %s | %.1f | %s | %s | %.0f | %s |\n' "$seed" "$camera" "$(awk -v r="$rmse" 'BEGIN { print 100 * r }')" \
       "$switches" "$tracks" "$(json_field "$j" mpjpe_mean_mm)" "$met"
-    echo "$seed $rmse $switches $tracks $(json_field "$j" mpjpe_mean_mm) $met" >> "$work/rows.$$"
+    echo "$seed $rmse $switches $tracks $(json_field "$j" mpjpe_mean_mm) $met" >> "$rows"
   done
 done
 echo
@@ -51,5 +53,4 @@ echo "| seeds | runs | track RMSE sum (cm) | MPJPE sum (mm) | id switches | trac
 echo "| --- | --- | --- | --- | --- | --- | --- |"
 awk '{ g = int(($1 - 1) / 5); n[g]++; r[g] += $2; s[g] += $3; t[g] += $4; m[g] += $5; ok[g] += ($6 == "yes") }
      END { for (g in n) printf "| %d-%d | %d | %.1f | %.0f | %d | %d (%d) | %d of %d |\n", 5 * g + 1, 5 * g + 5, n[g],
-           100 * r[g], m[g], s[g], t[g], 3 * n[g], ok[g], n[g] }' "$work/rows.$$" | sort -t'|' -k2,2n
-rm -f "$work/rows.$$"
+           100 * r[g], m[g], s[g], t[g], 3 * n[g], ok[g], n[g] }' "$rows" | sort -t'|' -k2,2n

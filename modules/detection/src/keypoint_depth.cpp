@@ -1,7 +1,6 @@
 #include "pf2/detection/keypoint_depth.h"
-#include "pf2/core/median.h"
 
-#include <algorithm>
+#include "pf2/core/median.h"
 
 namespace pf2 {
 

@@ -3,6 +3,7 @@
 // offsets, errors): the element at index size / 2 once sorted (the upper of the two middle ones
 // for an even count), found by a partial sort. Reorders *values. Header-only.
 #include <algorithm>
+#include <cstddef>
 #include <vector>
 
 namespace pf2 {
