@@ -238,6 +238,36 @@ TEST(HumanTracker, APersonFirstSeenInPartIsReidentifiedOnceMoreOfThemIsSeen) {
   }
 }
 
+// A seated person in red is hidden for 1.2 s (longer than max_missed) and comes back where they
+// sat, half hidden still: 40 % of their pixels theirs, the rest a grey wall (similarity 0.63 to
+// their track, below reid_similarity). Where they were and soon enough, that is them; the same
+// view 1.5 m away, after 3 s, or with reid_near_time 0 is someone new.
+TEST(HumanTracker, APersonBackSoonWhereTheyWereIsReidentifiedAtALowerSimilarity) {
+  const PersonAppearance red = colouredPerson({40, 40, 200}), grey = colouredPerson({128, 128, 128});
+  PersonAppearance in_part(red.size());
+  for (size_t i = 0; i < red.size(); ++i) in_part[i] = 0.4f * red[i] + 0.6f * grey[i];
+  const HumanTracker::Options defaults;
+  ASSERT_LT(appearanceSimilarity(in_part, red), defaults.reid_similarity);
+  ASSERT_GE(appearanceSimilarity(in_part, red), defaults.reid_near_similarity);
+  const Eigen::Vector3d seat(-1.5, 0.3, 3.1);
+  const auto idOnReturn = [&](const HumanTracker::Options& options, int hidden_frames, const Eigen::Vector3d& back) {
+    HumanTracker tracker(options);
+    int f = 0;
+    for (; f < 60; ++f) tracker.update(f / kRate, {seat}, {red});
+    for (const int end = f + hidden_frames; f < end; ++f) tracker.update(f / kRate, {});
+    std::vector<int> ids;
+    for (const int end = f + 4 * options.reid_after; f < end; ++f) ids = tracker.update(f / kRate, {back}, {in_part});
+    return ids.at(0);
+  };
+  EXPECT_EQ(idOnReturn(defaults, 36, seat), 1);
+  EXPECT_EQ(idOnReturn(defaults, 36, seat + Eigen::Vector3d(0.2, 0, 0.2)), 1);
+  EXPECT_EQ(idOnReturn(defaults, 36, seat + Eigen::Vector3d(1.5, 0, 0)), 2);
+  EXPECT_EQ(idOnReturn(defaults, 90, seat), 2);
+  HumanTracker::Options off = defaults;
+  off.reid_near_time = 0.0;
+  EXPECT_EQ(idOnReturn(off, 36, seat), 2);
+}
+
 // A stray centre that lasts two frames (a person's part split off, a false detection) in the
 // colours of a lost person does not take their id; the person coming back later does, once their
 // new track has reid_after centres. The stray track is no person to come back either.

@@ -136,7 +136,10 @@ int HumanTracker::reidentify(size_t fresh) const {
     const double speed = impliedSpeed(tracks_[t], first);
     if (speed > options_.max_speed) continue;
     const double similarity = appearanceSimilarity(appearance, appearance_[t]);
-    if (similarity < options_.reid_similarity || occludedBy(tracks_[t], fresh)) continue;
+    const bool stayed = speed == 0.0 && unseen <= options_.reid_near_time;
+    const double needed = stayed ? std::min(options_.reid_similarity, options_.reid_near_similarity)
+                                 : options_.reid_similarity;
+    if (similarity < needed || occludedBy(tracks_[t], fresh)) continue;
     // Of the lost tracks that look alike, the one its person need not have hurried from.
     const double score = similarity - options_.reid_speed_cost * speed;
     if (score > best_score) best_score = score, best = static_cast<int>(t);

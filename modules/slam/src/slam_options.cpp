@@ -204,6 +204,11 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "colour-histogram similarity (Bhattacharyya coefficient) needed to re-identify a person");
   s.number("humans.reid_speed_cost", &h.reid_speed_cost, 0.0, 10.0, "per m/s",
            "similarity taken off a lost track's claim per m/s its person must have walked while unseen (0 = off)");
+  s.number("humans.reid_near_similarity", &h.reid_near_similarity, 0.0, 1.0, "",
+           "similarity needed to re-identify a person back within humans.reid_near_time where they were lost");
+  s.number("humans.reid_near_time", &h.reid_near_time, 0.0, 60.0, "seconds",
+           "a person back within this time and within the gate of where they were lost needs only "
+           "humans.reid_near_similarity (0 = off)");
   s.integer("humans.reid_after", &h.reid_after, 1, 1000, "frames",
             "a new track is compared with lost ones once it has this many centres, and ends when missed before "
             "(1 = at first sight)");
