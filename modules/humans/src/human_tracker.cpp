@@ -136,6 +136,7 @@ int HumanTracker::reidentify(size_t fresh) const {
     const double speed = impliedSpeed(tracks_[t], first);
     if (speed > options_.max_speed) continue;
     const double similarity = appearanceSimilarity(appearance, appearance_[t]);
+    // Speed 0: the new track began within the gate of one of the lost track's last centres.
     const bool stayed = speed == 0.0 && unseen <= options_.reid_near_time;
     const double needed = stayed ? std::min(options_.reid_similarity, options_.reid_near_similarity)
                                  : options_.reid_similarity;
