@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -121,6 +122,7 @@ struct Node {
   std::string name, op;
   std::vector<std::string> inputs;
   Json attr;  // the AttrValue map as TF.js's JSON writes it
+  std::optional<Tensor> value;  // a Const made by a rewrite (the model's own are in weights)
 };
 
 void writeShape(ProtoWriter& shape_proto, const std::vector<int64_t>& dims) {
@@ -146,7 +148,14 @@ ProtoWriter tensorProto(const Tensor& t) {
   tensor.varint(1, static_cast<uint64_t>(t.dtype));
   writeShape(shape, t.shape);
   tensor.message(2, shape);
-  if (!t.data.empty()) tensor.bytes(4, t.data);
+  if (t.dtype == kInt32 && t.data.size() == 4) {
+    // A scalar int32 as int_val: OpenCV reads a Split's axis from there only.
+    int32_t v;
+    std::memcpy(&v, t.data.data(), 4);
+    tensor.packedVarints(7, {static_cast<int64_t>(v)});
+  } else if (!t.data.empty()) {
+    tensor.bytes(4, t.data);
+  }
   return tensor;
 }
 
@@ -276,8 +285,18 @@ struct TfjsGraph::Impl {
   // x when n is the last Mul of x * relu6(x + 3) * (1/6), the form TF.js writes MobileNetV3's
   // hard-swish in: Mul(Mul(1/6, x), Relu6(Add(x, 3))), either order throughout; else empty.
   std::string hardSwishInput(const Node& n) const;
-  // The nodes to emit: a copy with the fused layers rewritten (channel_scales: Mul node -> the
-  // index of its per-channel input).
+  // Readers of a bypassed node read its first input instead (Options::bypass).
+  void bypassNodes(const std::vector<std::string>& bypass, std::vector<Node>* out) const;
+  // TF writes a dilated convolution as BatchToSpaceND(conv(SpaceToBatchND(x, block, paddings)),
+  // block, crops), with paddings and crops computed from the tensor's shape (they only round its
+  // size up to a multiple of the block and back). OpenCV reads the dilation from the block and
+  // the convolution's padding from the paddings, and needs both as constants; it drops the
+  // BatchToSpaceND. Here both become zeros (appended to out): the model's own padding is an
+  // explicit Pad before, which OpenCV keeps.
+  void constantDilationPaddings(std::vector<Node>* out) const;
+  // The nodes to emit: a copy with the bypassed nodes skipped, the dilated convolutions'
+  // paddings made constant and the fused layers rewritten (channel_scales: Mul node -> the index
+  // of its per-channel input).
   std::vector<Node> rewritten(const Options& options, const std::map<std::string, int>& channel_scales) const;
   std::string graphDef(const Options& options, const std::map<std::string, int>& channel_scales) const;
   // The Mul nodes the imported net runs as broadcasting Eltwise products of a tensor and a
@@ -324,19 +343,48 @@ std::string TfjsGraph::Impl::hardSwishInput(const Node& n) const {
   return "";
 }
 
+void TfjsGraph::Impl::bypassNodes(const std::vector<std::string>& bypass, std::vector<Node>* out) const {
+  for (const std::string& name : bypass)
+    if (!index.count(name)) throw fileError(path, "bypassed node '" + name + "' is not a node");
+  const std::set<std::string> bypassed(bypass.begin(), bypass.end());
+  for (Node& n : *out)
+    for (std::string& in : n.inputs)
+      while (in[0] != '^' && bypassed.count(producerOf(in))) in = nodes[index.at(producerOf(in))].inputs.at(0);
+}
+
+void TfjsGraph::Impl::constantDilationPaddings(std::vector<Node>* out) const {
+  std::vector<Node> zeros;
+  for (Node& n : *out) {
+    if (n.op != "BatchToSpaceND" || n.inputs.size() != 3) continue;
+    const Node* conv = producer(n.inputs[0]);
+    if (!conv || (conv->op != "DepthwiseConv2dNative" && conv->op != "Conv2D") || conv->inputs.empty()) continue;
+    const Node* space = producer(conv->inputs[0]);
+    if (!space || space->op != "SpaceToBatchND" || space->inputs.size() != 3) continue;
+    // [[0, 0], [0, 0]] as int32, the paddings and the crops alike.
+    zeros.push_back(Node{space->name + "/_zero_paddings", "Const", {},
+                         {{"dtype", {{"type", "DT_INT32"}}}, {"value", Json::object()}},
+                         Tensor{kInt32, {2, 2}, std::string(16, '\0')}});
+    (*out)[index.at(space->name)].inputs[2] = zeros.back().name;
+    n.inputs[2] = zeros.back().name;
+  }
+  out->insert(out->end(), zeros.begin(), zeros.end());
+}
+
 std::vector<Node> TfjsGraph::Impl::rewritten(const Options& options,
                                              const std::map<std::string, int>& channel_scales) const {
   std::vector<Node> out = nodes;
+  bypassNodes(options.bypass, &out);
+  constantDilationPaddings(&out);
   if (!options.fuse_layers) return out;
   for (Node& n : out) {
     const auto scale = channel_scales.find(n.name);
     if (scale != channel_scales.end()) {
       // OpenCV's Scale layer: input 0 the tensor, input 1 the per-channel factors.
-      n = Node{n.name, "Scale", {n.inputs[1 - scale->second], n.inputs[scale->second]}, Json::object()};
+      n = Node{n.name, "Scale", {n.inputs[1 - scale->second], n.inputs[scale->second]}, Json::object(), std::nullopt};
       continue;
     }
     const std::string x = hardSwishInput(n);
-    if (!x.empty()) n = Node{n.name, "HardSwish", {x}, Json::object()};
+    if (!x.empty()) n = Node{n.name, "HardSwish", {x}, Json::object(), std::nullopt};
   }
   return out;
 }
@@ -413,7 +461,11 @@ void TfjsGraph::Impl::emitNode(ProtoWriter& graph, const Node& n) const {
   if (!fused_conv && !fused_depthwise) {
     ProtoWriter node = nodeProto(n.name, n.op, n.inputs);
     for (const auto& [key, value] : n.attr.items()) {
-      if (n.op == "Const" && key == "value") {
+      if (n.op == "Const" && key == "value" && n.value) {
+        ProtoWriter tensor_value;
+        tensor_value.message(8, tensorProto(*n.value));
+        addAttr(node, key, tensor_value);
+      } else if (n.op == "Const" && key == "value") {
         const auto w = weights.find(n.name);
         if (w == weights.end()) throw fileError(path, "constant '" + n.name + "' has no weights");
         ProtoWriter tensor_value;
@@ -512,13 +564,15 @@ std::string TfjsGraph::Impl::graphDef(const Options& options, const std::map<std
   for (const auto& [name, shape] : options.new_inputs)
     if (!index.count(name)) throw fileError(path, "new input '" + name + "' is not a node");
   const std::vector<Node> graph_nodes = rewritten(options, channel_scales);
+  std::map<std::string, size_t> position_of;  // in graph_nodes, which may hold nodes a rewrite added
+  for (size_t i = 0; i < graph_nodes.size(); ++i) position_of[graph_nodes[i].name] = i;
 
   // Nodes to keep: what the outputs need (by default the graph's own outputs, the nodes nothing
   // reads), walking inputs up to the new inputs; a fused chain's inner nodes fall away.
   std::vector<size_t> stack;
   for (const std::string& out : options.outputs) {
-    const auto it = index.find(out);
-    if (it == index.end()) throw fileError(path, "output '" + out + "' is not a node");
+    const auto it = position_of.find(out);
+    if (it == position_of.end()) throw fileError(path, "output '" + out + "' is not a node");
     stack.push_back(it->second);
   }
   if (options.outputs.empty()) {
@@ -528,7 +582,7 @@ std::string TfjsGraph::Impl::graphDef(const Options& options, const std::map<std
     for (size_t i = 0; i < nodes.size(); ++i)
       if (!read.count(nodes[i].name)) stack.push_back(i);
   }
-  std::vector<bool> keep(nodes.size(), false);
+  std::vector<bool> keep(graph_nodes.size(), false);
   while (!stack.empty()) {
     const size_t i = stack.back();
     stack.pop_back();
@@ -536,8 +590,9 @@ std::string TfjsGraph::Impl::graphDef(const Options& options, const std::map<std
     keep[i] = true;
     if (options.new_inputs.count(graph_nodes[i].name)) continue;
     for (const std::string& in : graph_nodes[i].inputs) {
-      const auto it = index.find(producerOf(in));
-      if (it == index.end())
+      if (in[0] == '^') continue;  // control dependencies are dropped below: what only they reach is not needed either
+      const auto it = position_of.find(producerOf(in));
+      if (it == position_of.end())
         throw fileError(path, "node '" + graph_nodes[i].name + "' reads unknown node '" + in + "'");
       stack.push_back(it->second);
     }

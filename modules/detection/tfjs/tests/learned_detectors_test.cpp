@@ -17,6 +17,7 @@
 #include "pf2/detection/learned_person_detector.h"
 #include "pf2/detection/movenet_detector.h"
 #include "pf2/detection/selfie_segmenter.h"
+#include "pf2/detection/video_matting.h"
 #include "pf2/io/tum_sequence.h"
 
 namespace pf2 {
@@ -111,6 +112,40 @@ TEST(LearnedDetectors, SelfieMasksBothPeopleOnRealFrame) {
 
 // TUM fr1/desk has no people; selfie alone reads a book as a person at a mean probability of 0.63
 // in two of these frames, which min_score drops. MoveNet and so "learned" see no one either.
+TEST(LearnedDetectors, VideoMattingMattesBothPeopleOnRealFrame) {
+  RealFrame real;
+  if (!humanModelAvailable("rvm")) GTEST_SKIP() << "no model; run scripts/fetch_models.sh";
+  if (!loadRealFrame(&real)) GTEST_SKIP() << "no real frame in " << kFrameDir;
+  VideoMatting matting(VideoMatting::Options{});
+  // Three frames of the same image: the recurrent state settles as on a still camera.
+  cv::Mat alpha;
+  for (int i = 0; i < 3; ++i) alpha = matting.alpha(real.frame.rgb);
+  ASSERT_EQ(alpha.size(), real.frame.rgb.size());
+  double lo, hi;
+  cv::minMaxLoc(alpha, &lo, &hi);
+  EXPECT_GE(lo, 0.0);
+  EXPECT_LE(hi, 1.0);
+  const cv::Mat person = alpha > 0.5;
+  const double union_iou = iou(person, real.reference);
+  std::printf("video matting: union IoU %.3f\n", union_iou);
+  EXPECT_GT(union_iou, 0.8);
+  for (const cv::Mat& reference_person : real.people)
+    EXPECT_GT(cv::countNonZero(person & reference_person), 0.8 * cv::countNonZero(reference_person));
+}
+
+TEST(LearnedDetectors, VideoMattingRefusesBadOptionsAndImages) {
+  VideoMatting::Options odd;
+  odd.input_width = 330;  // not a multiple of 16
+  expectErrorNaming([&] { VideoMatting m(odd); }, "multiples of 16");
+  VideoMatting::Options missing;
+  missing.model_json = testing::TempDir() + "pf2_no_rvm/model.json";
+  expectErrorNaming([&] { VideoMatting m(missing); }, missing.model_json);
+  if (!humanModelAvailable("rvm")) GTEST_SKIP() << "no model; run scripts/fetch_models.sh";
+  VideoMatting matting(VideoMatting::Options{});
+  EXPECT_THROW(matting.alpha(cv::Mat()), Error);
+  EXPECT_THROW(matting.alpha(cv::Mat(48, 64, CV_8UC1, cv::Scalar(0))), Error);
+}
+
 TEST(LearnedDetectors, NoPeopleOnTheDeskSequence) {
   const std::string dir = std::string(PF2_SHARED_DATA) + "/tum_fr1_desk_9";
   if (!humanModelAvailable("selfie") || !humanModelAvailable("movenet-multipose"))

@@ -251,6 +251,34 @@ TEST(TfjsGraph, CutsInputsAndOutputs) {
   EXPECT_THROW(graph.toGraphDef(options), Error);
 }
 
+// Shape arithmetic OpenCV cannot import, guarding a node that passes its input through at the
+// shapes given: bypassed, it falls away, and so does what only a control dependency reaches.
+TEST(TfjsGraph, BypassedNodesAndControlDependenciesFallAway) {
+  const std::string t = "\"T\":{\"type\":\"DT_FLOAT\"}";
+  const std::string extra =
+      "," + nodeJson("shape", "Shape", "\"conv/Relu6\"", t + ",\"out_type\":{\"type\":\"DT_INT32\"}") + "," +
+      nodeJson("bcast", "BroadcastTo", "\"dw/Relu\",\"shape\"", t + ",\"Tidx\":{\"type\":\"DT_INT32\"}") + "," +
+      nodeJson("out", "Relu", "\"bcast\",\"^shape\"", t);
+  const TinyModel m = writeTinyModel("pf2_tfjs_bypass", extra);
+  const TfjsGraph graph(m.json_path);
+  TfjsGraph::Options options;
+  options.outputs = {"out"};
+  EXPECT_NE(graph.toGraphDef(options).find("BroadcastTo"), std::string::npos);
+  options.bypass = {"bcast"};
+  const std::string cut = graph.toGraphDef(options);
+  EXPECT_EQ(cut.find("BroadcastTo"), std::string::npos);
+  EXPECT_EQ(cut.find("Shape"), std::string::npos);
+  cv::dnn::Net net = graph.loadNet(options);
+  const std::vector<float> x = makeInput();
+  float max_pre_relu6 = 0;
+  const std::vector<float> expected = directForward(m, x, &max_pre_relu6);  // >= 0: Relu keeps it
+  const std::vector<float> got = runNet(net, x, "out");
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], expected[i], 1e-4f) << "element " << i;
+
+  options.bypass = {"no/such/node"};
+  EXPECT_THROW(graph.toGraphDef(options), Error);
+}
+
 // MobileNetV3's blocks as TF.js writes them behind the tiny graph: a hard-swish chain
 // Mul(Mul(1/6, x), Relu6(x + 3)), a squeeze-and-excitation product (x times the sigmoid of its
 // channel means), and a look-alike chain with + 2 that is not a hard-swish.

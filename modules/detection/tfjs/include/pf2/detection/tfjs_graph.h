@@ -31,6 +31,11 @@ class TfjsGraph {
     // HardSwish uses 1/6 exactly where TF.js stored it as float16 (0.16663): on a real frame the
     // selfie model's probabilities move by 2e-4 on average, at most 0.04 (at mask edges).
     bool fuse_layers = true;
+    // Nodes that pass their first input through unchanged for the shapes of new_inputs, e.g. a
+    // crop to the size the tensor already has or a broadcast of a state fed at its full shape:
+    // their readers read that input instead, and what only they used (the shape arithmetic
+    // OpenCV cannot import) falls away.
+    std::vector<std::string> bypass;
   };
 
   // Reads model.json and the weight shards it names (paths relative to model.json). Throws
