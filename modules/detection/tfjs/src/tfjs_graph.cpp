@@ -294,8 +294,13 @@ struct TfjsGraph::Impl {
   // BatchToSpaceND. Here both become zeros (appended to out): the model's own padding is an
   // explicit Pad before, which OpenCV keeps.
   void constantDilationPaddings(std::vector<Node>* out) const;
+  // Sub(c, x) with c constant: OpenCV 4.6 computes x - c (it negates the constant and adds it
+  // to whichever input is not constant), so it becomes AddV2(Mul(x, -1), c) (nodes appended to
+  // out). A ConvGRU's 1 - z is written so.
+  void constantFirstSubtractions(std::vector<Node>* out) const;
   // The nodes to emit: a copy with the bypassed nodes skipped, the dilated convolutions'
-  // paddings made constant and the fused layers rewritten (channel_scales: Mul node -> the index
+  // paddings made constant, constant-first subtractions turned round and the fused layers
+  // rewritten (channel_scales: Mul node -> the index
   // of its per-channel input).
   std::vector<Node> rewritten(const Options& options, const std::map<std::string, int>& channel_scales) const;
   std::string graphDef(const Options& options, const std::map<std::string, int>& channel_scales) const;
@@ -370,11 +375,30 @@ void TfjsGraph::Impl::constantDilationPaddings(std::vector<Node>* out) const {
   out->insert(out->end(), zeros.begin(), zeros.end());
 }
 
+void TfjsGraph::Impl::constantFirstSubtractions(std::vector<Node>* out) const {
+  std::vector<Node> added;
+  for (Node& n : *out) {
+    if (n.op != "Sub" || n.inputs.size() != 2) continue;
+    const Node* first = producer(n.inputs[0]);
+    const Node* second = producer(n.inputs[1]);
+    if (!first || first->op != "Const" || !second || second->op == "Const") continue;
+    const float minus_one = -1.f;
+    Tensor t{kFloat, {}, std::string(reinterpret_cast<const char*>(&minus_one), 4)};
+    const Json t_attr = {{"T", {{"type", "DT_FLOAT"}}}};
+    added.push_back(Node{n.name + "/_minus_one", "Const", {},
+                         {{"dtype", {{"type", "DT_FLOAT"}}}, {"value", Json::object()}}, t});
+    added.push_back(Node{n.name + "/_negated", "Mul", {n.inputs[1], added.back().name}, t_attr, std::nullopt});
+    n = Node{n.name, "AddV2", {added.back().name, n.inputs[0]}, t_attr, std::nullopt};
+  }
+  out->insert(out->end(), added.begin(), added.end());
+}
+
 std::vector<Node> TfjsGraph::Impl::rewritten(const Options& options,
                                              const std::map<std::string, int>& channel_scales) const {
   std::vector<Node> out = nodes;
   bypassNodes(options.bypass, &out);
   constantDilationPaddings(&out);
+  constantFirstSubtractions(&out);
   if (!options.fuse_layers) return out;
   for (Node& n : out) {
     const auto scale = channel_scales.find(n.name);

@@ -279,6 +279,25 @@ TEST(TfjsGraph, BypassedNodesAndControlDependenciesFallAway) {
   EXPECT_THROW(graph.toGraphDef(options), Error);
 }
 
+// 1 - x, as a ConvGRU writes it: OpenCV 4.6 alone would compute x - 1.
+TEST(TfjsGraph, ConstantMinusTensorKeepsItsSign) {
+  const std::string t = "\"T\":{\"type\":\"DT_FLOAT\"}";
+  const float one = 1.f;
+  const TinyModel m = writeTinyModel("pf2_tfjs_sub", "," + constJson("one", "DT_FLOAT") + "," +
+                                                         nodeJson("one_minus", "Sub", "\"one\",\"dw/Relu\"", t),
+                                     ",{\"name\":\"one\",\"shape\":[],\"dtype\":\"float32\"}",
+                                     std::string(reinterpret_cast<const char*>(&one), 4));
+  const TfjsGraph graph(m.json_path);
+  TfjsGraph::Options options;
+  options.outputs = {"one_minus"};
+  cv::dnn::Net net = graph.loadNet(options);
+  const std::vector<float> x = makeInput();
+  float max_pre_relu6 = 0;
+  const std::vector<float> y = directForward(m, x, &max_pre_relu6);
+  const std::vector<float> got = runNet(net, x, "one_minus");
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], 1.f - y[i], 1e-4f) << "element " << i;
+}
+
 // MobileNetV3's blocks as TF.js writes them behind the tiny graph: a hard-swish chain
 // Mul(Mul(1/6, x), Relu6(x + 3)), a squeeze-and-excitation product (x times the sigmoid of its
 // channel means), and a look-alike chain with + 2 that is not a hard-swish.
