@@ -91,6 +91,9 @@ void detectorSettings(SlamOptions& o, Settings& s) {
   declareBoxDegradationSettings("detector.gt_", &o.detection.gt.degradation, &s);
   s.integer("detector.pose_every", &o.learned_pose_every, 1, 30, "frames",
             "frames per MoveNet run of the learned detector");
+  s.choice("detector.segmenter", &o.learned_segmenter, {"selfie", "rvm"},
+           "the learned detector's person mask: selfie (real time) or rvm (video matting: outlines without "
+           "chairs, about 8 x the time)");
 }
 
 // The filter's own keys, then pf2_slam's geometric addition: the keyframes' prediction.

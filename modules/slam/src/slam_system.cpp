@@ -534,6 +534,7 @@ std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, co
                                                   std::string* chosen) {
   DetectorOptions detection = options.detection;
   detection.extra["learned.pose_every"] = std::to_string(options.learned_pose_every);
+  detection.extra["learned.segmenter"] = options.learned_segmenter;
   const std::string gt_folder = sequence_folder.empty() ? "" : sequence_folder + "/gt";
   if (detection.gt.gt_folder.empty()) detection.gt.gt_folder = gt_folder;
   std::string name = options.detector;

@@ -136,7 +136,13 @@ LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(
   if (options_.pose_every < 1) throw Error("learned detector: pose_every must be at least 1");
   if (options_.min_pose_keypoints < 1) throw Error("learned detector: min_pose_keypoints must be at least 1");
   if (options_.whole_pose_keypoints < 1) throw Error("learned detector: whole_pose_keypoints must be at least 1");
-  selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
+  if (options_.segmenter == "selfie") {
+    selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
+  } else if (options_.segmenter == "rvm") {
+    matting_ = std::make_unique<VideoMatting>(options_.matting);
+  } else {
+    throw Error("learned detector: segmenter '" + options_.segmenter + "' is not selfie or rvm");
+  }
   movenet_ = std::make_unique<MoveNetDetector>(options_.movenet);
 }
 
@@ -174,8 +180,8 @@ void LearnedPersonDetector::carryPoses(const cv::Mat& mask) {
 }
 
 Detections LearnedPersonDetector::detect(const Frame& frame) {
-  const cv::Mat probability = selfie_->probability(frame.rgb);
-  const std::vector<PersonDetection> components = selfie_->components(probability);
+  const cv::Mat probability = matting_ ? matting_->alpha(frame.rgb) : selfie_->probability(frame.rgb);
+  const std::vector<PersonDetection> components = maskComponents(probability, options_.selfie);
   cv::Mat mask(probability.size(), CV_8U, cv::Scalar(0));
   for (const PersonDetection& c : components) mask |= c.mask;
 

@@ -54,10 +54,14 @@ cv::Mat SelfieSegmenter::probability(const cv::Mat& bgr) {
 }
 
 std::vector<PersonDetection> SelfieSegmenter::components(const cv::Mat& probability) const {
-  const cv::Mat mask = probability > options_.mask_threshold;
+  return maskComponents(probability, options_);
+}
+
+std::vector<PersonDetection> maskComponents(const cv::Mat& probability, const SelfieSegmenter::Options& options) {
+  const cv::Mat mask = probability > options.mask_threshold;
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
-  const double min_area = options_.min_area_fraction * probability.total();
+  const double min_area = options.min_area_fraction * probability.total();
   std::vector<PersonDetection> people;
   for (int i = 1; i < n; ++i) {
     if (stats.at<int>(i, cv::CC_STAT_AREA) < min_area) continue;
@@ -68,7 +72,7 @@ std::vector<PersonDetection> SelfieSegmenter::components(const cv::Mat& probabil
              static_cast<float>(y + stats.at<int>(i, cv::CC_STAT_HEIGHT))};
     p.mask = labels == i;
     p.score = static_cast<float>(cv::mean(probability, p.mask)[0]);
-    if (p.score < options_.min_score) continue;
+    if (p.score < options.min_score) continue;
     people.push_back(std::move(p));
   }
   return people;

@@ -67,6 +67,21 @@ double iou(const cv::Mat& a, const cv::Mat& b) {
   return uni > 0 ? inter / uni : 0;
 }
 
+// The union of the detected people's masks; expects each to have a mask matching exactly one
+// reference person (IoU > 0.5).
+cv::Mat maskOfPeopleMatchingOnePersonEach(const Detections& d, const RealFrame& real) {
+  cv::Mat all(real.reference.size(), CV_8U, cv::Scalar(0));
+  for (const PersonDetection& p : d.people) {
+    EXPECT_FALSE(p.mask.empty());
+    if (p.mask.empty()) continue;
+    all |= p.mask;
+    int matched = 0;
+    for (const cv::Mat& ref_person : real.people) matched += iou(p.mask, ref_person) > 0.5;
+    EXPECT_EQ(matched, 1);
+  }
+  return all;
+}
+
 cv::Mat boxMask(const PersonBox& box, cv::Size size) {
   cv::Mat m(size, CV_8U, cv::Scalar(0));
   cv::rectangle(m, cv::Rect(cv::Point(static_cast<int>(box.x_ul), static_cast<int>(box.y_ul)),
@@ -247,16 +262,8 @@ TEST(LearnedDetectors, CombinedGivesEachPersonMaskAndKeypointsAndCarriesThem) {
   LearnedPersonDetector learned(options);
   const Detections first = learned.detect(real.frame);
   ASSERT_EQ(first.people.size(), 2u);
-  cv::Mat all(real.reference.size(), CV_8U, cv::Scalar(0));
-  for (const PersonDetection& p : first.people) {
-    ASSERT_EQ(p.keypoints.size(), 17u);
-    ASSERT_FALSE(p.mask.empty());
-    all |= p.mask;
-    int matched = 0;
-    for (const cv::Mat& ref_person : real.people) matched += iou(p.mask, ref_person) > 0.5;
-    EXPECT_EQ(matched, 1);
-  }
-  const double union_iou = iou(all, real.reference);
+  for (const PersonDetection& p : first.people) ASSERT_EQ(p.keypoints.size(), 17u);
+  const double union_iou = iou(maskOfPeopleMatchingOnePersonEach(first, real), real.reference);
   std::printf("learned mask IoU against the reference: %.3f\n", union_iou);
   EXPECT_GE(union_iou, 0.7);
 
@@ -298,6 +305,25 @@ TEST(LearnedDetectors, FactoryKnowsTheLearnedBackendsAndChecksTheirOptions) {
   DetectorOptions bad_rate;
   bad_rate.extra["learned.pose_every"] = "0";
   EXPECT_THROW(createHumanDetector("learned", bad_rate), Error);
+  DetectorOptions bad_segmenter;
+  bad_segmenter.extra["learned.segmenter"] = "sam";
+  expectErrorNaming([&] { createHumanDetector("learned", bad_segmenter); }, "'sam'");
+}
+
+TEST(LearnedDetectors, LearnedWithVideoMattingGivesEachPersonTheirMatte) {
+  RealFrame real;
+  if (!humanModelAvailable("rvm") || !humanModelAvailable("movenet-multipose"))
+    GTEST_SKIP() << "no models; run scripts/fetch_models.sh";
+  if (!loadRealFrame(&real)) GTEST_SKIP() << "no real frame in " << kFrameDir;
+  ASSERT_EQ(real.people.size(), 2u);
+  DetectorOptions options;
+  options.extra["learned.segmenter"] = "rvm";
+  const std::unique_ptr<HumanDetector> learned = createHumanDetector("learned", options);
+  const Detections d = learned->detect(real.frame);
+  ASSERT_EQ(d.people.size(), 2u);
+  const double union_iou = iou(maskOfPeopleMatchingOnePersonEach(d, real), real.reference);
+  std::printf("learned (rvm) mask IoU against the reference: %.3f\n", union_iou);
+  EXPECT_GE(union_iou, 0.85);
 }
 
 TEST(LearnedDetectors, MissingModelThrowsNamingTheFile) {

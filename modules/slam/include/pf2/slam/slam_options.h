@@ -31,6 +31,9 @@ struct SlamOptions {
   // Frames per MoveNet run of the learned detector; handed to it as detection.extra's
   // "learned.pose_every" when the detector is made (createSlamDetector).
   int learned_pose_every = 3;
+  // The learned detector's person probability, "selfie" or "rvm"; handed to it as
+  // "learned.segmenter" (createSlamDetector).
+  std::string learned_segmenter = "selfie";
   DualBBoxFilter::Options filter = defaultFilterOptions();
   // The filter's geometric addition (filter.geometric): depth measured more than
   // geometric_margin metres in front of the static depth predicted from the newest keyframes is

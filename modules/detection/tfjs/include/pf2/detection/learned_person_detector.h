@@ -1,5 +1,5 @@
 #pragma once
-// "learned": selfie masks on every frame, MoveNet MultiPose boxes and keypoints every few frames,
+// "learned": selfie masks (or video mattes, Options::segmenter) on every frame, MoveNet MultiPose boxes and keypoints every few frames,
 // carried in between by the motion of the mask (the shift aligning the previous mask in a person's
 // box with the current one). Only poses with enough confident keypoints count as people: the selfie
 // model assumes someone is in view and marks blurred or plain scenes as "person" (on TUM fr1/rpy,
@@ -21,12 +21,20 @@
 #include "pf2/detection/human_detector.h"
 #include "pf2/detection/movenet_detector.h"
 #include "pf2/detection/selfie_segmenter.h"
+#include "pf2/detection/video_matting.h"
 
 namespace pf2 {
 
 class LearnedPersonDetector : public HumanDetector {
  public:
   struct Options {
+    // Where the person probability comes from: "selfie" (the selfie network, about 10 ms a frame)
+    // or "rvm" (VideoMatting, about 85 ms at 320x240 on 2 cores: people's outlines without the
+    // chairs and walls the selfie mask spreads onto, docs/learned_detection.md). Either way the
+    // components are thresholded and filtered by `selfie`'s mask_threshold, min_area_fraction and
+    // min_score.
+    std::string segmenter = "selfie";
+    VideoMatting::Options matting;
     SelfieSegmenter::Options selfie;
     MoveNetDetector::Options movenet;
     int pose_every = 3;                 // frames per MoveNet run (1 = every frame)
@@ -49,8 +57,8 @@ class LearnedPersonDetector : public HumanDetector {
     float max_motion = 32.f;            // largest image motion of a person between frames, pixels
   };
 
-  // Loads both models. Throws pf2::Error naming a missing/unreadable model, or if pose_every,
-  // min_pose_keypoints or whole_pose_keypoints < 1.
+  // Loads both models. Throws pf2::Error naming a missing/unreadable model, an unknown segmenter,
+  // or if pose_every, min_pose_keypoints or whole_pose_keypoints < 1.
   explicit LearnedPersonDetector(const Options& options);
   ~LearnedPersonDetector() override;
 
@@ -62,7 +70,8 @@ class LearnedPersonDetector : public HumanDetector {
   void carryPoses(const cv::Mat& mask);
 
   Options options_;
-  std::unique_ptr<SelfieSegmenter> selfie_;
+  std::unique_ptr<SelfieSegmenter> selfie_;   // one of these two, by options_.segmenter
+  std::unique_ptr<VideoMatting> matting_;
   std::unique_ptr<MoveNetDetector> movenet_;
   std::vector<PersonDetection> poses_;  // latest MoveNet people, moved with the mask since
   cv::Mat previous_mask_;               // selfie mask of the previous frame (CV_8U)

@@ -42,8 +42,7 @@ class SelfieSegmenter : public HumanDetector {
 
   // Person probability of each pixel of a BGR image, CV_32F in [0, 1], same size. NOT thread safe.
   cv::Mat probability(const cv::Mat& bgr);
-  // Connected components (8-neighbour) of probability > mask_threshold, each above the minimum
-  // area and score, as detections: box, mask and score = mean probability inside. Thread safe.
+  // maskComponents(probability, options). Thread safe.
   std::vector<PersonDetection> components(const cv::Mat& probability) const;
 
  private:
@@ -54,5 +53,10 @@ class SelfieSegmenter : public HumanDetector {
   Options options_;
   std::unique_ptr<Impl> impl_;
 };
+
+// Connected components (8-neighbour) of probability > options.mask_threshold, each above the
+// minimum area and score, as detections: box, mask and score = mean probability inside. Any
+// person probability image will do (the selfie network's, a video matte). Thread safe.
+std::vector<PersonDetection> maskComponents(const cv::Mat& probability, const SelfieSegmenter::Options& options);
 
 }  // namespace pf2

@@ -15,6 +15,7 @@
 //   learned.min_keypoints  confident keypoints (score >= 0.3) a pose needs to be a person (4)
 //   learned.max_component  mask components above this fraction of the image are cut to the
 //                     people's boxes (0.6)
+//   learned.segmenter  selfie | rvm: where the person probability comes from (selfie)
 // Keys of other prefixes are ignored (they belong to other backends); an unknown key with one of
 // these prefixes or a value that does not parse throws pf2::Error naming the key.
 #include <map>
