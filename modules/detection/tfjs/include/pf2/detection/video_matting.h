@@ -7,7 +7,8 @@
 // Why it is here: against pf2_synth's ground-truth masks it finds 98 % of the people's depth
 // pixels while marking under 1 % of the static ones, where the selfie segmenter misses seated
 // people behind others and spreads onto their chairs (docs/learned_detection.md, "Video
-// matting"). It is not yet part of the `learned` detector.
+// matting"). The `learned` detector uses it with Options::segmenter "rvm" (not the default: it
+// costs about 8 times the selfie network's time).
 //
 // The graph is imported for one input size without its downsampling and refinement branches
 // (TF.js control flow OpenCV cannot run): the frame is resized to that size instead, and the
