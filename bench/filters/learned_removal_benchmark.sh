@@ -6,14 +6,16 @@
 # keyframes' prediction, candidates, keep_static); and pf2_detect's filter runs: the paper's
 # filter, pf2_slam's filter settings without and with pf2_detect's stand-in for the prediction
 # (the farthest static depth seen so far, moved with groundtruth.txt).
-# Prints recall (person depth removed), precision and retention (static depth kept).
+# Prints recall (person depth removed), precision and retention (static depth kept). pf2_slam also
+# runs with video matting as the learned detector's mask (detector.segmenter rvm).
 #
-# Usage: bench/filters/learned_removal_benchmark.sh [BUILD_DIR] [WORK_DIR] [FRAMES]
+# Usage: bench/filters/learned_removal_benchmark.sh [BUILD_DIR] [WORK_DIR] [FRAMES] [SEED]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${1:-$root/build}"
 work="${2:-/tmp/pf2_no_oracle}"
 frames="${3:-300}"
+seed="${4:-1}"
 mkdir -p "$work"
 source "$root/bench/bench_lib.sh"
 
@@ -21,7 +23,7 @@ synth() {  # synth NAME ARGS...: generates the sequence once, prints its folder
   local name="$1"
   shift
   [ -f "$work/$name/groundtruth.txt" ] || "$build/apps/pf2_synth" "$work/$name" --frames "$frames" \
-      --people 3 --seed 1 --quiet "$@" >/dev/null
+      --people 3 --seed "$seed" --quiet "$@" >/dev/null
   echo "$work/$name"
 }
 
@@ -53,11 +55,12 @@ slam_filter=(--set filter.use_mask=true --set filter.mask_reach=20 --set filter.
 for spec in "${cases[@]}"; do
   name="${spec%%:*}"
   read -r -a args <<< "${spec#*:}"
-  sequence="$(synth "$name" "${args[@]}")"
+  sequence="$(synth "${name}_s$seed" "${args[@]}")"
   misalign=0
   [[ "$name" == *misalign3* ]] && misalign=3
   slam_row "$name" "$sequence" "pf2_slam, no geometric" "$misalign" --set filter.geometric=false
   slam_row "$name" "$sequence" "pf2_slam" "$misalign"
+  slam_row "$name" "$sequence" "pf2_slam, rvm matte" "$misalign" --set detector.segmenter=rvm
   row "$name" "$sequence" "paper's filter" 
   row "$name" "$sequence" "pf2_detect, pf2_slam's settings" "${slam_filter[@]}"
   row "$name" "$sequence" "pf2_detect, + stand-in geometric" "${slam_filter[@]}" --set filter.geometric=true
