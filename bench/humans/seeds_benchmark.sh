@@ -10,6 +10,8 @@
 #
 # Usage: bench/humans/seeds_benchmark.sh [BUILD_DIR] [WORK_DIR] [FIRST_SEED] [LAST_SEED] [FRAMES]
 # Defaults: build, /tmp/pf2_seeds, seeds 1-10, 300 frames. About 20 s per run on two cores.
+# Extra pf2_slam settings: PF2_BENCH_CONFIG=FILE (a --config file used by every run, e.g. the line
+# `detector.segmenter rvm`).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${1:-$root/build}"
@@ -25,6 +27,8 @@ for tool in apps/pf2_synth apps/pf2_slam bench/humans/pf2_humans_eval; do
 done
 mkdir -p "$work"
 source "$root/bench/bench_lib.sh"
+config_args=()
+[ -n "${PF2_BENCH_CONFIG:-}" ] && config_args=(--config "$PF2_BENCH_CONFIG")
 rows="$(mktemp "$work/rows.XXXXXX")"  # one line per run, for the sums; gone however the script ends
 trap 'rm -f "$rows"' EXIT
 
@@ -38,7 +42,7 @@ for seed in $(seq "$first" "$last"); do
     [ -f "$sequence/groundtruth.txt" ] || "$build/apps/pf2_synth" "$sequence" --frames "$frames" --people 3 \
         --camera "$camera" --seed "$seed" --quiet >/dev/null
     "$build/apps/pf2_slam" "$sequence" -o "$work/run_${camera}_s${seed}" --detector learned --no-map --quiet \
-        --set tracker.asynchronous_backend=false --set bodies.asynchronous=false >/dev/null
+        --set tracker.asynchronous_backend=false --set bodies.asynchronous=false "${config_args[@]}" >/dev/null
     j="$work/${camera}_s${seed}.json"
     "$build/bench/humans/pf2_humans_eval" "$sequence" "$work/run_${camera}_s${seed}" --json | tail -n 1 > "$j"
     rmse=$(json_field "$j" rmse) switches=$(json_field "$j" id_switches) tracks=$(json_field "$j" tracks)
