@@ -300,8 +300,7 @@ struct TfjsGraph::Impl {
   void constantFirstSubtractions(std::vector<Node>* out) const;
   // The nodes to emit: a copy with the bypassed nodes skipped, the dilated convolutions'
   // paddings made constant, constant-first subtractions turned round and the fused layers
-  // rewritten (channel_scales: Mul node -> the index
-  // of its per-channel input).
+  // rewritten (channel_scales: Mul node -> the index of its per-channel input).
   std::vector<Node> rewritten(const Options& options, const std::map<std::string, int>& channel_scales) const;
   std::string graphDef(const Options& options, const std::map<std::string, int>& channel_scales) const;
   // The Mul nodes the imported net runs as broadcasting Eltwise products of a tensor and a
@@ -383,7 +382,7 @@ void TfjsGraph::Impl::constantFirstSubtractions(std::vector<Node>* out) const {
     const Node* second = producer(n.inputs[1]);
     if (!first || first->op != "Const" || !second || second->op == "Const") continue;
     const float minus_one = -1.f;
-    Tensor t{kFloat, {}, std::string(reinterpret_cast<const char*>(&minus_one), 4)};
+    const Tensor t{kFloat, {}, std::string(reinterpret_cast<const char*>(&minus_one), 4)};
     const Json t_attr = {{"T", {{"type", "DT_FLOAT"}}}};
     added.push_back(Node{n.name + "/_minus_one", "Const", {},
                          {{"dtype", {{"type", "DT_FLOAT"}}}, {"value", Json::object()}}, t});
