@@ -267,6 +267,58 @@ TEST(BodyTrackAssembler, DropsAFitFarFromTheOthers) {
   EXPECT_LT((tracks[0].frames[2].pelvis_w - tracks[0].frames[1].pelvis_w).norm(), 1e-9);
 }
 
+// A person walking at 1 m/s, fitted every 0.1 s; one fit lies 40 cm off their path, and its eq. 2
+// centre moved with it (the wrong pixels: the offset rule keeps it). The path rule drops it: its
+// frame lies on the line between its neighbours. Switched off (0), the fit stays.
+TEST(BodyTrackAssembler, DropsAFitThatLeavesThePathOfItsNeighbours) {
+  const auto on_line = [](double t) { return Eigen::Vector3d(t, 0.1, 3.0); };
+  const Eigen::Vector3d off_path(0, 0, 0.4);
+  const BodyParameters body = personInCamera();
+  const Eigen::Vector3d rest_pelvis = model().restJoints(body.shape)[0];
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  for (int f = 0; f < 10; ++f) {
+    const Eigen::Vector3d pelvis = on_line(0.1 * f) + (f == 5 ? off_path : Eigen::Vector3d::Zero());
+    seen.push_back(sightingAt(f, 0.1 * f, pelvis));
+    BodyParameters fitted = body;
+    fitted.translation = pelvis - rest_pelvis;
+    fits.push_back(fitAt(f, 0.1 * f, fitted));
+  }
+  BodyTrackAssembler::Options options = noSmoothing();
+  const auto assemble = [&](const BodyTrackAssembler::Options& o) {
+    return BodyTrackAssembler(model(), o).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+  };
+  const std::vector<BodyTrack> tracks = assemble(options);
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_EQ(tracks[0].fits, 9);
+  EXPECT_FALSE(tracks[0].frames[5].fitted);
+  EXPECT_LT((tracks[0].frames[5].pelvis_w - on_line(0.5)).norm(), 1e-9);
+  options.max_path_deviation = 0;
+  const std::vector<BodyTrack> kept = assemble(options);
+  EXPECT_EQ(kept[0].fits, 10);
+  EXPECT_LT((kept[0].frames[5].pelvis_w - on_line(0.5) - off_path).norm(), 1e-9);
+}
+
+// A track whose fits jump by 1.5 m from one to the next (another person took it over): the fits on
+// either side of the jump are no path to judge by, and none is dropped.
+TEST(BodyTrackAssembler, KeepsTheFitsOnBothSidesOfAJump) {
+  const BodyParameters body = personInCamera();
+  const Eigen::Vector3d rest_pelvis = model().restJoints(body.shape)[0];
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  for (int f = 0; f < 10; ++f) {
+    const Eigen::Vector3d pelvis(f < 5 ? 0.0 : 1.5, 0.1, 3.0);
+    seen.push_back(sightingAt(f, 0.1 * f, pelvis));
+    BodyParameters fitted = body;
+    fitted.translation = pelvis - rest_pelvis;
+    fits.push_back(fitAt(f, 0.1 * f, fitted));
+  }
+  const std::vector<BodyTrack> tracks = BodyTrackAssembler(model(), noSmoothing())
+                                            .assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_EQ(tracks[0].fits, 10);
+}
+
 // humans.json holds what the assembler made; the joints follow from pose, shape and pelvis
 // within 1 mm (the file's 6 decimals).
 TEST(BodyTracksJson, WritesAndReadsBackAndTheJointsFollowFromPoseAndShape) {

@@ -38,6 +38,14 @@ constexpr size_t kVertexStride = 4;
 // border.
 constexpr double kWholeShare = 0.9;
 
+// s: a fit is judged against the line between its neighbouring fits only when these lie at most
+// this far apart; over longer spans a walking person's curve leaves the chord by decimetres too.
+constexpr double kPathSpan = 1.0;
+// m/s: neighbouring fits further apart than a brisk walk covers are no path to judge a fit by: the
+// track jumps there (a wrong fit on one side, or the track taken over by another person), and the
+// fits on one side would be dropped one by one.
+constexpr double kMaxPelvisSpeed = 2.5;
+
 // A person standing with the arms down, as eq. 4 places a person with no fit.
 BodyParameters standingBody(const Eigen::VectorXd& shape) {
   BodyParameters body;
@@ -132,6 +140,16 @@ void keepWhere(const std::vector<bool>& keep, std::vector<T>* values) {
   values->resize(kept);
 }
 
+// Keeps the fits whose flag in `keep` is set, in each of the parallel lists (views may be empty).
+template <typename View>
+void keepFits(const std::vector<bool>& keep, std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
+              std::vector<const BodyTrackFit*>* fitted, std::vector<View>* views) {
+  keepWhere(keep, bodies);
+  keepWhere(keep, offsets);
+  keepWhere(keep, fitted);
+  if (!views->empty()) keepWhere(keep, views);
+}
+
 // Per axis.
 Eigen::Vector3d medianVector(const std::vector<Eigen::Vector3d>& vectors) {
   Eigen::Vector3d median;
@@ -178,10 +196,35 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
                                              : Eigen::Vector3d((*offsets)[i] - offset_median);
     keep[i] = deviation.norm() <= options_.max_offset_deviation;
   }
-  keepWhere(keep, bodies);
-  keepWhere(keep, offsets);
-  keepWhere(keep, fitted);
-  if (!views->empty()) keepWhere(keep, views);
+  keepFits(keep, bodies, offsets, fitted, views);
+}
+
+void BodyTrackAssembler::dropFitsOffPath(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
+                                         std::vector<const BodyTrackFit*>* fitted,
+                                         std::vector<FitView>* views) const {
+  if (!(options_.max_path_deviation > 0.0)) return;
+  for (;;) {
+    double worst = options_.max_path_deviation;
+    size_t worst_fit = 0;  // 0: none (the first fit has no neighbour before it)
+    for (size_t i = 1; i + 1 < fitted->size(); ++i) {
+      const double before = (*fitted)[i - 1]->timestamp, after = (*fitted)[i + 1]->timestamp;
+      if (!(after > before) || after - before > kPathSpan) continue;
+      const Eigen::Vector3d& a = (*bodies)[i - 1].translation;
+      const Eigen::Vector3d& b = (*bodies)[i + 1].translation;
+      if ((b - a).norm() > kMaxPelvisSpeed * (after - before)) continue;
+      const double x = ((*fitted)[i]->timestamp - before) / (after - before);
+      const Eigen::Vector3d on_path = (1.0 - x) * a + x * b;
+      const double deviation = ((*bodies)[i].translation - on_path).norm();
+      if (deviation > worst) {
+        worst = deviation;
+        worst_fit = i;
+      }
+    }
+    if (worst_fit == 0) return;
+    std::vector<bool> keep(fitted->size(), true);
+    keep[worst_fit] = false;
+    keepFits(keep, bodies, offsets, fitted, views);
+  }
 }
 
 std::vector<Eigen::Vector3d> BodyTrackAssembler::verticesAboutPelvis(const BodyParameters& body_w,
@@ -282,6 +325,7 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     views.push_back(own != seen.end() ? fitView(bodies.back(), rest_pelvis, **own, T_w_c(**own), image) : FitView());
   }
   dropOutlierFits(&bodies, &offsets, &fitted, &views);
+  dropFitsOffPath(&bodies, &offsets, &fitted, &views);
   // The meshes of the fits that place frames far from every fit, made when first needed.
   std::map<size_t, std::vector<Eigen::Vector3d>> vertices_of_fit;
   size_t next = 0;  // first fit at or after the current frame
