@@ -3,6 +3,7 @@
 // humans.json written and read back.
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -68,6 +69,31 @@ BodyTrackAssembler::Options noSmoothing() {
   options.pose_smoothing_sigma = 0;
   return options;
 }
+
+// `body` moved so that its pelvis lies at `pelvis`.
+BodyParameters withPelvisAt(const BodyParameters& body, const Eigen::Vector3d& pelvis) {
+  BodyParameters moved = body;
+  moved.translation = pelvis - model().restJoints(body.shape)[0];
+  return moved;
+}
+
+// One person seen and fitted in each of `frames` frames 0.1 s apart by a camera that never moves
+// (keyframe 0 at the origin): the fit's pelvis at pelvis(f), the eq. 2 centre at centre(f).
+struct FittedEveryFrame {
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+
+  FittedEveryFrame(int frames, const std::function<Eigen::Vector3d(int)>& pelvis,
+                   const std::function<Eigen::Vector3d(int)>& centre) {
+    for (int f = 0; f < frames; ++f) {
+      seen.push_back(sightingAt(f, 0.1 * f, centre(f)));
+      fits.push_back(fitAt(f, 0.1 * f, withPelvisAt(personInCamera(), pelvis(f))));
+    }
+  }
+  std::vector<BodyTrack> tracks(const BodyTrackAssembler::Options& options) const {
+    return BodyTrackAssembler(model(), options).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+  }
+};
 
 // Eq. 4 with a known camera pose: the fitted body's joints in the world are T_w_c times its joints
 // in the camera, with the keyframe's final (loop-corrected) pose, not the one tracked at the time.
@@ -273,28 +299,16 @@ TEST(BodyTrackAssembler, DropsAFitFarFromTheOthers) {
 TEST(BodyTrackAssembler, DropsAFitThatLeavesThePathOfItsNeighbours) {
   const auto on_line = [](double t) { return Eigen::Vector3d(t, 0.1, 3.0); };
   const Eigen::Vector3d off_path(0, 0, 0.4);
-  const BodyParameters body = personInCamera();
-  const Eigen::Vector3d rest_pelvis = model().restJoints(body.shape)[0];
-  std::vector<PersonSighting> seen;
-  std::vector<BodyTrackFit> fits;
-  for (int f = 0; f < 10; ++f) {
-    const Eigen::Vector3d pelvis = on_line(0.1 * f) + (f == 5 ? off_path : Eigen::Vector3d::Zero());
-    seen.push_back(sightingAt(f, 0.1 * f, pelvis));
-    BodyParameters fitted = body;
-    fitted.translation = pelvis - rest_pelvis;
-    fits.push_back(fitAt(f, 0.1 * f, fitted));
-  }
+  const auto pelvis = [&](int f) { return Eigen::Vector3d(on_line(0.1 * f) + (f == 5 ? off_path : Eigen::Vector3d::Zero())); };
+  const FittedEveryFrame person(10, pelvis, pelvis);
   BodyTrackAssembler::Options options = noSmoothing();
-  const auto assemble = [&](const BodyTrackAssembler::Options& o) {
-    return BodyTrackAssembler(model(), o).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
-  };
-  const std::vector<BodyTrack> tracks = assemble(options);
+  const std::vector<BodyTrack> tracks = person.tracks(options);
   ASSERT_EQ(tracks.size(), 1u);
   EXPECT_EQ(tracks[0].fits, 9);
   EXPECT_FALSE(tracks[0].frames[5].fitted);
   EXPECT_LT((tracks[0].frames[5].pelvis_w - on_line(0.5)).norm(), 1e-9);
   options.max_path_deviation = 0;
-  const std::vector<BodyTrack> kept = assemble(options);
+  const std::vector<BodyTrack> kept = person.tracks(options);
   EXPECT_EQ(kept[0].fits, 10);
   EXPECT_LT((kept[0].frames[5].pelvis_w - on_line(0.5) - off_path).norm(), 1e-9);
 }
@@ -302,21 +316,32 @@ TEST(BodyTrackAssembler, DropsAFitThatLeavesThePathOfItsNeighbours) {
 // A track whose fits jump by 1.5 m from one to the next (another person took it over): the fits on
 // either side of the jump are no path to judge by, and none is dropped.
 TEST(BodyTrackAssembler, KeepsTheFitsOnBothSidesOfAJump) {
-  const BodyParameters body = personInCamera();
-  const Eigen::Vector3d rest_pelvis = model().restJoints(body.shape)[0];
-  std::vector<PersonSighting> seen;
-  std::vector<BodyTrackFit> fits;
-  for (int f = 0; f < 10; ++f) {
-    const Eigen::Vector3d pelvis(f < 5 ? 0.0 : 1.5, 0.1, 3.0);
-    seen.push_back(sightingAt(f, 0.1 * f, pelvis));
-    BodyParameters fitted = body;
-    fitted.translation = pelvis - rest_pelvis;
-    fits.push_back(fitAt(f, 0.1 * f, fitted));
-  }
-  const std::vector<BodyTrack> tracks = BodyTrackAssembler(model(), noSmoothing())
-                                            .assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+  const auto pelvis = [](int f) { return Eigen::Vector3d(f < 5 ? 0.0 : 1.5, 0.1, 3.0); };
+  const std::vector<BodyTrack> tracks = FittedEveryFrame(10, pelvis, pelvis).tracks(noSmoothing());
   ASSERT_EQ(tracks.size(), 1u);
   EXPECT_EQ(tracks[0].fits, 10);
+}
+
+// A seated person fitted every 0.1 s for 5 s; for 2.5 s someone passing in front joins their mask,
+// and their eq. 2 centre lies 40 cm aside while the fits stay on them. The offset rule alone drops
+// those fits (the gap is longer than max_gap, so its frames follow the wrong centre); the fits lie
+// on the path of the fits kept around them and are kept. With the path rule off they are dropped.
+TEST(BodyTrackAssembler, KeepsFitsOnThePathWhenTheirCentresAreWrong) {
+  const Eigen::Vector3d pelvis(0.2, 0.1, 3.0);
+  const Eigen::Vector3d aside(0.4, 0, 0);
+  const auto centre = [&](int f) { return Eigen::Vector3d(pelvis + (f >= 10 && f < 35 ? aside : Eigen::Vector3d::Zero())); };
+  const FittedEveryFrame person(50, [&](int) { return pelvis; }, centre);
+  BodyTrackAssembler::Options options = noSmoothing();
+  const std::vector<BodyTrack> tracks = person.tracks(options);
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_EQ(tracks[0].fits, 50);
+  EXPECT_TRUE(tracks[0].frames[22].fitted);
+  EXPECT_LT((tracks[0].frames[22].pelvis_w - pelvis).norm(), 1e-9);
+  options.max_path_deviation = 0;
+  const std::vector<BodyTrack> dropped = person.tracks(options);
+  EXPECT_EQ(dropped[0].fits, 25);
+  EXPECT_FALSE(dropped[0].frames[22].fitted);
+  EXPECT_GT((dropped[0].frames[22].pelvis_w - pelvis).norm(), 0.3);
 }
 
 // humans.json holds what the assembler made; the joints follow from pose, shape and pelvis

@@ -168,6 +168,20 @@ std::vector<Eigen::Vector3d> rotated(const Eigen::Matrix3d& R, const std::vector
   return out;
 }
 
+// How far fit i's pelvis lies off the straight line between fits a and b (a < i < b, at i's time),
+// or -1 when a and b are no path to judge by: not apart in time, or further apart than a brisk
+// walk (kMaxPelvisSpeed) covers in that time.
+double deviationFromChord(const std::vector<const BodyTrackFit*>& fitted, const std::vector<BodyParameters>& bodies,
+                          size_t a, size_t i, size_t b) {
+  const double before = fitted[a]->timestamp, after = fitted[b]->timestamp;
+  if (!(after > before)) return -1.0;
+  const Eigen::Vector3d& from = bodies[a].translation;
+  const Eigen::Vector3d& to = bodies[b].translation;
+  if ((to - from).norm() > kMaxPelvisSpeed * (after - before)) return -1.0;
+  const double x = (fitted[i]->timestamp - before) / (after - before);
+  return (bodies[i].translation - ((1.0 - x) * from + x * to)).norm();
+}
+
 }  // namespace
 
 // Drops the fits that disagree with the track's other fits about where the pelvis lies against the
@@ -196,7 +210,30 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
                                              : Eigen::Vector3d((*offsets)[i] - offset_median);
     keep[i] = deviation.norm() <= options_.max_offset_deviation;
   }
+  spareFitsOnPath(*bodies, *fitted, &keep);
   keepFits(keep, bodies, offsets, fitted, views);
+}
+
+// A fit the offset rule would drop is kept when its pelvis lies within max_path_deviation of the
+// straight line between the nearest fits before and after it that the rule keeps: the fit agrees
+// with the person's path, so its frame's eq. 2 centre is what is wrong (another person's pixels in
+// the mask, someone passing in front). No limit on the time between those fits: a seated person's
+// path is a point however long the centres stay wrong, and a wrong fit rarely falls on a walker's
+// chord.
+void BodyTrackAssembler::spareFitsOnPath(const std::vector<BodyParameters>& bodies,
+                                         const std::vector<const BodyTrackFit*>& fitted, std::vector<bool>* keep) const {
+  if (!(options_.max_path_deviation > 0.0)) return;
+  const std::vector<bool> judged = *keep;
+  const long count = static_cast<long>(judged.size());
+  for (long i = 0; i < count; ++i) {
+    if (judged[i]) continue;
+    long before = i - 1, after = i + 1;
+    while (before >= 0 && !judged[before]) --before;
+    while (after < count && !judged[after]) ++after;
+    if (before < 0 || after >= count) continue;
+    const double deviation = deviationFromChord(fitted, bodies, before, i, after);
+    (*keep)[i] = deviation >= 0.0 && deviation <= options_.max_path_deviation;
+  }
 }
 
 void BodyTrackAssembler::dropFitsOffPath(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
@@ -207,14 +244,8 @@ void BodyTrackAssembler::dropFitsOffPath(std::vector<BodyParameters>* bodies, st
     double worst = options_.max_path_deviation;
     size_t worst_fit = 0;  // 0: none (the first fit has no neighbour before it)
     for (size_t i = 1; i + 1 < fitted->size(); ++i) {
-      const double before = (*fitted)[i - 1]->timestamp, after = (*fitted)[i + 1]->timestamp;
-      if (!(after > before) || after - before > kPathSpan) continue;
-      const Eigen::Vector3d& a = (*bodies)[i - 1].translation;
-      const Eigen::Vector3d& b = (*bodies)[i + 1].translation;
-      if ((b - a).norm() > kMaxPelvisSpeed * (after - before)) continue;
-      const double x = ((*fitted)[i]->timestamp - before) / (after - before);
-      const Eigen::Vector3d on_path = (1.0 - x) * a + x * b;
-      const double deviation = ((*bodies)[i].translation - on_path).norm();
+      if ((*fitted)[i + 1]->timestamp - (*fitted)[i - 1]->timestamp > kPathSpan) continue;
+      const double deviation = deviationFromChord(*fitted, *bodies, i - 1, i, i + 1);
       if (deviation > worst) {
         worst = deviation;
         worst_fit = i;

@@ -20,7 +20,8 @@
 // A fit far from where the track's other fits lie relative to their eq. 2 centres is dropped first
 // (max_offset_deviation; with visible_centre, a fit of a body cut by the image border is judged by
 // how far its frame's centre lies from the one its body gives there, against the track's other
-// fits). Every body of a track gets the track's shape (the mean of its fits). The joints'
+// fits), unless it lies on the path of the fits kept (max_path_deviation); then a fit off the line
+// between its neighbours (max_path_deviation). Every body of a track gets the track's shape (the mean of its fits). The joints'
 // rotations are then smoothed over time (Gaussian, pose_smoothing_sigma), then the pelvis
 // positions (smoothing_sigma), each body moved with its pelvis.
 #include <array>
@@ -106,6 +107,10 @@ class BodyTrackAssembler {
     // another walks in) does. [0, 10] m, 0 = off. (pf2_slam, repeatable runs, track RMSE summed
     // over 15 pf2_synth sequences each: seeds 16-20 88.0 -> 76.4 cm with 0.25 m, 77.9 with 0.15,
     // seeds 1-5 64.0 -> 64.0 / 63.8; held out, seeds 26-30 88.4 -> 82.9, seeds 41-45 71.7 -> 68.2.)
+    // The same distance spares a fit that max_offset_deviation would drop when it lies that close
+    // to the line between the nearest fits before and after it that that rule keeps, however far
+    // apart they are: then its frame's eq. 2 centre is wrong, not the fit (a seated person's mask
+    // joined by someone passing in front).
     double max_path_deviation = 0.25;
     // Frames beyond max_gap from any fit place the nearest fit's body by the eq. 2 centre it would
     // give in the image (true) or by the centre plus the fit's offset (false); with true, a fit of
@@ -157,6 +162,9 @@ class BodyTrackAssembler {
                                          const std::vector<BodyParameters>& bodies, size_t a, double x) const;
   void dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
                        std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const;
+  // Sets `keep` again for the fits it drops that lie on the path of the fits it keeps.
+  void spareFitsOnPath(const std::vector<BodyParameters>& bodies, const std::vector<const BodyTrackFit*>& fitted,
+                       std::vector<bool>* keep) const;
   // Options::max_path_deviation, the worst fit first, until no fit is that far off its neighbours' line.
   void dropFitsOffPath(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
                        std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const;
