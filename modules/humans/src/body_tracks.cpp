@@ -215,11 +215,13 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
 }
 
 // A fit the offset rule would drop is kept when its pelvis lies within max_path_deviation of the
-// straight line between the nearest fits before and after it that the rule keeps: the fit agrees
-// with the person's path, so its frame's eq. 2 centre is what is wrong (another person's pixels in
-// the mask, someone passing in front). No limit on the time between those fits: a seated person's
-// path is a point however long the centres stay wrong, and a wrong fit rarely falls on a walker's
-// chord.
+// straight line between the nearest fits before and after it that the rule keeps, and those lie
+// more than max_gap apart: the fit agrees with the person's path, so its frame's eq. 2 centre is
+// what is wrong (another person's pixels in the mask, someone passing in front), and without it the
+// frames between would be placed by those centres. Within max_gap the frames are interpolated
+// between the fits kept, and a fit the offset rule doubts adds only its noise there. No upper limit
+// on the span: a seated person's path is a point however long the centres stay wrong, and a wrong
+// fit rarely falls on a walker's chord.
 void BodyTrackAssembler::spareFitsOnPath(const std::vector<BodyParameters>& bodies,
                                          const std::vector<const BodyTrackFit*>& fitted, std::vector<bool>* keep) const {
   if (!(options_.max_path_deviation > 0.0)) return;
@@ -231,6 +233,7 @@ void BodyTrackAssembler::spareFitsOnPath(const std::vector<BodyParameters>& bodi
     while (before >= 0 && !judged[before]) --before;
     while (after < count && !judged[after]) ++after;
     if (before < 0 || after >= count) continue;
+    if (fitted[after]->timestamp - fitted[before]->timestamp <= options_.max_gap) continue;  // interpolated anyway
     const double deviation = deviationFromChord(fitted, bodies, before, i, after);
     (*keep)[i] = deviation >= 0.0 && deviation <= options_.max_path_deviation;
   }
