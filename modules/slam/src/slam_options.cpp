@@ -274,8 +274,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
   s.number("bodies.max_offset_deviation", &o.body_tracks.max_offset_deviation, 0.01, 10.0, "metres",
            "a fit whose pelvis is further from where the person's other fits lie (relative to the eq. 2 centre) is dropped");
   s.number("bodies.max_path_deviation", &o.body_tracks.max_path_deviation, 0.0, 10.0, "metres",
-           "a fit whose pelvis is further from the line between the fits before and after it is dropped, and one "
-           "closer to the line between the fits kept around it is kept whatever its offset (0 = off)");
+           "a fit whose pelvis is further from the line between the fits before and after it is dropped; one closer "
+           "to the line between the fits kept around it, when those are more than bodies.max_gap apart, is kept "
+           "whatever its offset (0 = off)");
   s.boolean("bodies.visible_centre", &o.body_tracks.visible_centre,
             "a person far from any fit is placed where the nearest fit's body gives their eq. 2 centre in the image "
             "(the part inside it only), and a fit of a person cut by the border is judged by that centre; false: at "
