@@ -20,10 +20,11 @@
 // A fit far from where the track's other fits lie relative to their eq. 2 centres is dropped first
 // (max_offset_deviation; with visible_centre, a fit of a body cut by the image border is judged by
 // how far its frame's centre lies from the one its body gives there, against the track's other
-// fits), unless it lies on the path of the fits kept (max_path_deviation); then a fit off the line
-// between its neighbours (max_path_deviation). Every body of a track gets the track's shape (the mean of its fits). The joints'
-// rotations are then smoothed over time (Gaussian, pose_smoothing_sigma), then the pelvis
-// positions (smoothing_sigma), each body moved with its pelvis.
+// fits), unless it lies on the path of the fits kept around it across a gap longer than max_gap
+// (max_path_deviation); then a fit off the line between its neighbours (max_path_deviation). Every
+// body of a track gets the track's shape (the mean of its fits). The joints' rotations are then
+// smoothed over time (Gaussian, pose_smoothing_sigma), then the pelvis positions
+// (smoothing_sigma), each body moved with its pelvis.
 #include <array>
 #include <map>
 #include <vector>
