@@ -229,6 +229,50 @@ TEST(VisibleCentre, ARightFitOfAPersonCutByTheBorderIsKept) {
   }
 }
 
+// Where the measured centre lies against the body changes over a track: a seated person's mask
+// and box hold the chair and the wall behind them (their centre lies deeper than their body's),
+// and when they walk up to the border the centre and the body agree. Eight fits of the first kind,
+// then five right fits of the person cut by the border and a wrong one among them: judged against
+// the whole track's median the right ones are dropped with the wrong one; judged against the fits
+// around them (bodies.cut_bias_window) only the wrong one is.
+TEST(VisibleCentre, AFitIsJudgedByTheFitsAroundIt) {
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  const auto add = [&](double t, const Eigen::Vector3d& pelvis, const Eigen::Vector3d& centre_error,
+                       const Eigen::Vector3d& fit_error) {
+    PersonSighting s;
+    s.frame_index = static_cast<int>(seen.size());
+    s.timestamp = t;
+    s.keyframe_id = 0;
+    ASSERT_TRUE(renderedCentre(body(pelvis), &s.p_c));
+    s.p_c += centre_error;
+    BodyTrackFit fit;
+    fit.frame_index = s.frame_index;
+    fit.timestamp = t;
+    fit.keyframe_id = 0;
+    fit.body_c = body(pelvis + fit_error);
+    seen.push_back(s);
+    fits.push_back(fit);
+  };
+  const Eigen::Vector3d deeper(0, 0, 0.3), none = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 8; ++k) add(0.2 * k, Eigen::Vector3d(0.01 * k, 0.1, 2.5), deeper, none);
+  for (int k = 0; k < 6; ++k) {
+    add(3.0 + 0.2 * k, Eigen::Vector3d(-1.55 + 0.02 * k, 0.1, 2.5), none, k == 3 ? Eigen::Vector3d(0, 0, 0.5) : none);
+  }
+  for (const double window : {0.0, 1.0}) {
+    BodyTrackAssembler::Options options;
+    options.cut_bias_window = window;
+    const std::vector<BodyTrack> tracks =
+        BodyTrackAssembler(model(), options).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, camera());
+    ASSERT_EQ(tracks.size(), 1u);
+    std::printf("cut_bias_window %.1f s: %d of 14 fits kept\n", window, tracks[0].fits);
+    for (int k = 8; k < 14; ++k) {
+      EXPECT_EQ(tracks[0].frames[k].fitted, window > 0 && k != 11) << "fit " << k << ", cut_bias_window " << window;
+    }
+    for (int k = 0; k < 8; ++k) EXPECT_TRUE(tracks[0].frames[k].fitted) << "seated fit " << k;
+  }
+}
+
 TEST(VisibleCentre, RefusesOptionsOutOfRange) {
   VisibleCentre::Options options;
   options.cell_px = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "pf2/humans/visible_centre.h"
 #include "pf2/core/median.h"
@@ -41,6 +42,8 @@ constexpr double kWholeShare = 0.9;
 // s: a fit is judged against the line between its neighbouring fits only when these lie at most
 // this far apart; over longer spans a walking person's curve leaves the chord by decimetres too.
 constexpr double kPathSpan = 1.0;
+// Views within Options::cut_bias_window of a cut fit that make a median of their own.
+constexpr size_t kNearbyFits = 3;
 // m/s: neighbouring fits further apart than a brisk walk covers are no path to judge a fit by: the
 // track jumps there (a wrong fit on one side, or the track taken over by another person), and the
 // fits on one side would be dropped one by one.
@@ -189,29 +192,46 @@ double deviationFromChord(const std::vector<const BodyTrackFit*>& fitted, const 
 // in the image (no views, no valid view, or at least kWholeShare of it in view) is judged by the
 // offset of its pelvis from the centre, against the median over such fits; a fit whose body is
 // cut by the image border, whose centre lies on the part in view, by how far the centre lies from
-// the one its body gives there (the view's bias), against the median over all views.
+// the one its body gives there (the view's bias), against the median over the views within
+// cut_bias_window of it (all views when there are fewer than kNearbyFits).
 void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
                                          std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const {
   if (offsets->size() < 3) return;  // no majority to judge by
-  const auto cut = [&](size_t i) {
-    return !views->empty() && (*views)[i].valid && (*views)[i].share_in_view < kWholeShare;
-  };
-  std::vector<Eigen::Vector3d> whole_offsets, biases;
+  const auto viewed = [&](size_t i) { return !views->empty() && (*views)[i].valid; };
+  const auto cut = [&](size_t i) { return viewed(i) && (*views)[i].share_in_view < kWholeShare; };
+  std::vector<Eigen::Vector3d> whole_offsets, all_biases, biases(offsets->size(), Eigen::Vector3d::Zero());
   for (size_t i = 0; i < offsets->size(); ++i) {
     if (!cut(i)) whole_offsets.push_back((*offsets)[i]);
-    if (!views->empty() && (*views)[i].valid) biases.push_back((*views)[i].bias_c);
+    if (viewed(i)) all_biases.push_back(biases[i] = (*views)[i].bias_c);
   }
   if (whole_offsets.size() < 3) whole_offsets = *offsets;
   const Eigen::Vector3d offset_median = medianVector(whole_offsets);
-  const Eigen::Vector3d bias_median = biases.empty() ? Eigen::Vector3d::Zero() : medianVector(biases);
+  const Eigen::Vector3d bias_median = all_biases.empty() ? Eigen::Vector3d::Zero() : medianVector(all_biases);
   std::vector<bool> keep(offsets->size());
   for (size_t i = 0; i < offsets->size(); ++i) {
-    const Eigen::Vector3d deviation = cut(i) ? Eigen::Vector3d((*views)[i].bias_c - bias_median)
+    const Eigen::Vector3d deviation = cut(i) ? Eigen::Vector3d(biases[i] - nearbyBias(biases, viewed, *fitted, i, bias_median))
                                              : Eigen::Vector3d((*offsets)[i] - offset_median);
     keep[i] = deviation.norm() <= options_.max_offset_deviation;
   }
   spareFitsOnPath(*bodies, *fitted, &keep);
   keepFits(keep, bodies, offsets, fitted, views);
+}
+
+// The per-axis median of the view biases of the fits with a view (`viewed`) within cut_bias_window
+// of fit i, when there are at least kNearbyFits of them; else (or with cut_bias_window 0) the
+// track's median.
+Eigen::Vector3d BodyTrackAssembler::nearbyBias(const std::vector<Eigen::Vector3d>& biases,
+                                               const std::function<bool(size_t)>& viewed,
+                                               const std::vector<const BodyTrackFit*>& fitted, size_t i,
+                                               const Eigen::Vector3d& track_median) const {
+  if (!(options_.cut_bias_window > 0.0)) return track_median;
+  std::vector<Eigen::Vector3d> nearby;
+  for (size_t j = 0; j < biases.size(); ++j) {
+    if (viewed(j) && std::abs(fitted[j]->timestamp - fitted[i]->timestamp) <= options_.cut_bias_window) {
+      nearby.push_back(biases[j]);
+    }
+  }
+  return nearby.size() >= kNearbyFits ? medianVector(nearby) : track_median;
 }
 
 // A fit the offset rule would drop is kept when its pelvis lies within max_path_deviation of the

@@ -281,6 +281,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
             "a person far from any fit is placed where the nearest fit's body gives their eq. 2 centre in the image "
             "(the part inside it only), and a fit of a person cut by the border is judged by that centre; false: at "
             "the centre plus the fit's offset, every fit judged by its offset");
+  s.number("bodies.cut_bias_window", &o.body_tracks.cut_bias_window, 0.0, 60.0, "seconds",
+           "with bodies.visible_centre, a fit of a person cut by the border is judged against the person's fits "
+           "within this time of it (at least three; 0 = all of the person's fits)");
   s.boolean("bodies.hold_height", &o.body_tracks.hold_height,
             "a person far from any fit keeps the nearest fit's pelvis height, only their horizontal position comes "
             "from the eq. 2 centre; false: the centre's height too");
