@@ -209,8 +209,9 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
   const Eigen::Vector3d bias_median = all_biases.empty() ? Eigen::Vector3d::Zero() : medianVector(all_biases);
   std::vector<bool> keep(offsets->size());
   for (size_t i = 0; i < offsets->size(); ++i) {
-    const Eigen::Vector3d deviation = cut(i) ? Eigen::Vector3d(biases[i] - nearbyBias(biases, viewed, *fitted, i, bias_median))
-                                             : Eigen::Vector3d((*offsets)[i] - offset_median);
+    const Eigen::Vector3d deviation =
+        cut(i) ? Eigen::Vector3d(biases[i] - nearbyBias(biases, viewed, *fitted, i, bias_median))
+               : Eigen::Vector3d((*offsets)[i] - offset_median);
     keep[i] = deviation.norm() <= options_.max_offset_deviation;
   }
   spareFitsOnPath(*bodies, *fitted, &keep);

@@ -174,6 +174,7 @@ class BodyTrackAssembler {
   // The pelvis between fits a and a + 1 at x in [0, 1] of the way (Options::velocity_span).
   Eigen::Vector3d translationBetweenFits(const std::vector<const BodyTrackFit*>& fitted,
                                          const std::vector<BodyParameters>& bodies, size_t a, double x) const;
+  // The median view bias a cut fit i is judged against (Options::cut_bias_window).
   Eigen::Vector3d nearbyBias(const std::vector<Eigen::Vector3d>& biases, const std::function<bool(size_t)>& viewed,
                              const std::vector<const BodyTrackFit*>& fitted, size_t i,
                              const Eigen::Vector3d& track_median) const;
