@@ -225,12 +225,15 @@ Eigen::Vector3d BodyTrackAssembler::nearbyBias(const std::vector<Eigen::Vector3d
                                                const std::function<bool(size_t)>& viewed,
                                                const std::vector<const BodyTrackFit*>& fitted, size_t i,
                                                const Eigen::Vector3d& track_median) const {
-  if (!(options_.cut_bias_window > 0.0)) return track_median;
+  const double window = options_.cut_bias_window, t = fitted[i]->timestamp;
+  if (!(window > 0.0)) return track_median;
+  // The fits are in time order (assemble() sorts them by frame): the window is a run around i.
+  size_t first = i, last = i;
+  while (first > 0 && t - fitted[first - 1]->timestamp <= window) --first;
+  while (last + 1 < fitted.size() && fitted[last + 1]->timestamp - t <= window) ++last;
   std::vector<Eigen::Vector3d> nearby;
-  for (size_t j = 0; j < biases.size(); ++j) {
-    if (viewed(j) && std::abs(fitted[j]->timestamp - fitted[i]->timestamp) <= options_.cut_bias_window) {
-      nearby.push_back(biases[j]);
-    }
+  for (size_t j = first; j <= last; ++j) {
+    if (viewed(j)) nearby.push_back(biases[j]);
   }
   return nearby.size() >= kNearbyFits ? medianVector(nearby) : track_median;
 }
