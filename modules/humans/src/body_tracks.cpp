@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include "pf2/humans/visible_centre.h"
 #include "pf2/core/median.h"
@@ -199,18 +198,18 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
   if (offsets->size() < 3) return;  // no majority to judge by
   const auto viewed = [&](size_t i) { return !views->empty() && (*views)[i].valid; };
   const auto cut = [&](size_t i) { return viewed(i) && (*views)[i].share_in_view < kWholeShare; };
-  std::vector<Eigen::Vector3d> whole_offsets, all_biases, biases(offsets->size(), Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> whole_offsets, biases;
   for (size_t i = 0; i < offsets->size(); ++i) {
     if (!cut(i)) whole_offsets.push_back((*offsets)[i]);
-    if (viewed(i)) all_biases.push_back(biases[i] = (*views)[i].bias_c);
+    if (viewed(i)) biases.push_back((*views)[i].bias_c);
   }
   if (whole_offsets.size() < 3) whole_offsets = *offsets;
   const Eigen::Vector3d offset_median = medianVector(whole_offsets);
-  const Eigen::Vector3d bias_median = all_biases.empty() ? Eigen::Vector3d::Zero() : medianVector(all_biases);
+  const Eigen::Vector3d bias_median = biases.empty() ? Eigen::Vector3d::Zero() : medianVector(biases);
   std::vector<bool> keep(offsets->size());
   for (size_t i = 0; i < offsets->size(); ++i) {
     const Eigen::Vector3d deviation =
-        cut(i) ? Eigen::Vector3d(biases[i] - nearbyBias(biases, viewed, *fitted, i, bias_median))
+        cut(i) ? Eigen::Vector3d((*views)[i].bias_c - nearbyBias(*views, *fitted, i, bias_median))
                : Eigen::Vector3d((*offsets)[i] - offset_median);
     keep[i] = deviation.norm() <= options_.max_offset_deviation;
   }
@@ -218,11 +217,10 @@ void BodyTrackAssembler::dropOutlierFits(std::vector<BodyParameters>* bodies, st
   keepFits(keep, bodies, offsets, fitted, views);
 }
 
-// The per-axis median of the view biases of the fits with a view (`viewed`) within cut_bias_window
-// of fit i, when there are at least kNearbyFits of them; else (or with cut_bias_window 0) the
-// track's median.
-Eigen::Vector3d BodyTrackAssembler::nearbyBias(const std::vector<Eigen::Vector3d>& biases,
-                                               const std::function<bool(size_t)>& viewed,
+// The per-axis median of the biases of the valid views within cut_bias_window of fit i (views and
+// fitted in step), when there are at least kNearbyFits of them; else (or with cut_bias_window 0)
+// the track's median.
+Eigen::Vector3d BodyTrackAssembler::nearbyBias(const std::vector<FitView>& views,
                                                const std::vector<const BodyTrackFit*>& fitted, size_t i,
                                                const Eigen::Vector3d& track_median) const {
   const double window = options_.cut_bias_window, t = fitted[i]->timestamp;
@@ -233,7 +231,7 @@ Eigen::Vector3d BodyTrackAssembler::nearbyBias(const std::vector<Eigen::Vector3d
   while (last + 1 < fitted.size() && fitted[last + 1]->timestamp - t <= window) ++last;
   std::vector<Eigen::Vector3d> nearby;
   for (size_t j = first; j <= last; ++j) {
-    if (viewed(j)) nearby.push_back(biases[j]);
+    if (views[j].valid) nearby.push_back(views[j].bias_c);
   }
   return nearby.size() >= kNearbyFits ? medianVector(nearby) : track_median;
 }

@@ -26,7 +26,6 @@
 // smoothed over time (Gaussian, pose_smoothing_sigma), then the pelvis positions
 // (smoothing_sigma), each body moved with its pelvis.
 #include <array>
-#include <functional>
 #include <map>
 #include <vector>
 
@@ -175,9 +174,8 @@ class BodyTrackAssembler {
   Eigen::Vector3d translationBetweenFits(const std::vector<const BodyTrackFit*>& fitted,
                                          const std::vector<BodyParameters>& bodies, size_t a, double x) const;
   // The median view bias a cut fit i is judged against (Options::cut_bias_window).
-  Eigen::Vector3d nearbyBias(const std::vector<Eigen::Vector3d>& biases, const std::function<bool(size_t)>& viewed,
-                             const std::vector<const BodyTrackFit*>& fitted, size_t i,
-                             const Eigen::Vector3d& track_median) const;
+  Eigen::Vector3d nearbyBias(const std::vector<FitView>& views, const std::vector<const BodyTrackFit*>& fitted,
+                             size_t i, const Eigen::Vector3d& track_median) const;
   void dropOutlierFits(std::vector<BodyParameters>* bodies, std::vector<Eigen::Vector3d>* offsets,
                        std::vector<const BodyTrackFit*>* fitted, std::vector<FitView>* views) const;
   // Sets `keep` again for the fits it drops that lie on the path of the fits it keeps.
