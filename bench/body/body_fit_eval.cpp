@@ -34,7 +34,7 @@ namespace {
 const char* kUsage =
     "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
-    "                         [--no-keypoint-offsets] [--no-side-views] [--no-surface-alignment]\n"
+    "                         [--no-keypoint-offsets] [--no-side-views] [--no-surface-alignment] [--surface-quantile Q]\n"
     "                         [--weight-depth W] [--weight-pose W] [--weight-shape W] [--weight-upright W]\n"
     "                         [--refine] [--refine-input PX] [--refine-margin M]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
@@ -47,7 +47,9 @@ const char* kUsage =
     "MoveNet's keypoints beside their joints (CocoJointLink::offset) unless --no-keypoint-offsets;\n"
     "with --detector gt, whose keypoints are the joints themselves, never. --no-side-views keeps every\n"
     "depth term two-sided (BodyFitter::Options::side_view_separation 0). --no-surface-alignment leaves\n"
-    "each fit where the solver put it (BodyFitter::Options::surface_alignment false). --refine (learned\n"
+    "each fit where the solver put it (BodyFitter::Options::surface_alignment false); --surface-quantile\n"
+    "sets the quantile of the torso's depth differences it moves the body to (BodySurfaceAligner::Options::\n"
+    "quantile, default 0.6, 0.5 = median). --refine (learned\n"
     "only): each person's keypoints from MoveNet run again on a crop around them (PoseRefiner; its input side and\n"
     "margin by --refine-input and --refine-margin), as pf2_slam does before its fits.\n";
 
@@ -123,6 +125,7 @@ int run(int argc, char** argv) {
   fit_options.keypoint_offsets = !cli.flag("--no-keypoint-offsets");
   if (cli.flag("--no-side-views")) fit_options.side_view_separation = 0;
   fit_options.surface_alignment = !cli.flag("--no-surface-alignment");
+  fit_options.surface.quantile = cli.number("--surface-quantile", fit_options.surface.quantile);
   const auto positionals = cli.positionals();
   if (positionals.size() != 1) throw pf2::Error("expected SEQUENCE_DIR (see -h)");
   if (every < 1 || noise_px < 0) throw pf2::Error("--every must be >= 1 and --noise >= 0");

@@ -97,15 +97,15 @@ CellImage measuredDepth(const std::vector<Eigen::Vector3d>& points_c, const Came
   return sum;
 }
 
-// The weighted median of (value, weight) pairs; pairs must not be empty.
-double weightedMedian(std::vector<std::pair<double, double>>* pairs) {
+// The weighted quantile q of (value, weight) pairs; pairs must not be empty.
+double weightedQuantile(std::vector<std::pair<double, double>>* pairs, double q) {
   std::sort(pairs->begin(), pairs->end());
   double total = 0;
   for (const auto& [value, weight] : *pairs) total += weight;
   double below = 0;
   for (const auto& [value, weight] : *pairs) {
     below += weight;
-    if (below >= 0.5 * total) return value;
+    if (below >= q * total) return value;
   }
   return pairs->back().first;
 }
@@ -116,9 +116,10 @@ BodySurfaceAligner::BodySurfaceAligner(const BodyModel& model, const Options& op
     : model_(model), options_(options) {
   if (!(options.cell_px >= 1 && options.cell_px <= 32 && options.match_px >= 1 && options.match_px <= 32 &&
         options.occlusion_depth > 0 && options.occlusion_depth <= 1 && options.min_vertices >= 1 &&
-        options.min_vertices <= 1000000 && options.max_shift >= 0 && options.max_shift <= 10)) {
+        options.min_vertices <= 1000000 && options.max_shift >= 0 && options.max_shift <= 10 && options.quantile > 0 &&
+        options.quantile < 1)) {
     throw Error("BodySurfaceAligner: an option is out of range (cell_px and match_px [1, 32] px, occlusion_depth "
-                "(0, 1] m, min_vertices [1, 1e6], max_shift [0, 10] m)");
+                "(0, 1] m, min_vertices [1, 1e6], max_shift [0, 10] m, quantile (0, 1))");
   }
   // The torso: vertices moved most by the pelvis, the spine or the collars.
   const Eigen::MatrixXf& weights = model.weights();
@@ -148,7 +149,7 @@ BodySurfaceAligner::Result BodySurfaceAligner::align(const std::vector<Eigen::Ve
   }
   result.vertices = static_cast<int>(differences.size());
   if (result.vertices < options_.min_vertices) return result;
-  const double shift_z = weightedMedian(&differences);
+  const double shift_z = weightedQuantile(&differences, options_.quantile);
   const Eigen::Vector3d pelvis = mesh.joints[0];
   if (std::abs(shift_z) > options_.max_shift || !(pelvis.z() > 0.05)) return result;
   // Along the ray through the pelvis: the body keeps its place in the image.

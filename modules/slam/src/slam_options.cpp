@@ -251,6 +251,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
            "pull of each fit's up axis towards the world's up (about this x the lean in radians; 0 = none)");
   s.boolean("bodies.surface_alignment", &b.fitter.surface_alignment,
             "move each fit along its pelvis ray onto the person's measured torso surface, then fit again from there");
+  s.number("bodies.surface_quantile", &b.fitter.surface.quantile, 0.01, 0.99, "",
+           "quantile of (measured - body) torso depth the surface alignment moves the body to (0.5 = median; above "
+           "it, because arms and people in front of a torso are what lies wrongly in its pixels)");
   s.number("bodies.weight_surface_depth", &b.fitter.weight_surface_depth, 0.0, 100000.0, "",
            "after the surface alignment, hold of the body's depth (1000: 1 cm weighs like 10 px)");
   s.boolean("bodies.refine_keypoints", &o.refine_keypoints,

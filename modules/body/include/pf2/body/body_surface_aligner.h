@@ -5,8 +5,8 @@
 // cm off along the viewing ray (RMS; pf2_slam on pf2_synth with the learned detector), more than
 // across it. The aligner compares the torso surface the fitted body shows the camera with the
 // person's depth at the same pixels and moves the body along the ray through its pelvis by the
-// median difference, weighted by image area (robust to a minority of wrong points: mask bleeding
-// onto the background, an arm in front). The torso alone, because it is fitted best and lies
+// difference at a quantile a little above the median, weighted by image area (robust to a minority
+// of wrong points: mask bleeding onto the background, an arm in front). The torso alone, because it is fitted best and lies
 // around the pelvis: with the limbs and the head, a leg or an arm fitted in the wrong place moves
 // the body. See docs/body.md, "Surface alignment".
 #include <vector>
@@ -34,6 +34,15 @@ class BodySurfaceAligner {
     // A median difference beyond this (m) is not trusted (someone else's points, a fit far off):
     // the body stays, [0, 10].
     double max_shift = 0.3;
+    // The weighted quantile of (measured - vertex depth) the body is moved to, (0, 1); 0.5 = the
+    // median. What lies wrongly in the torso's pixels lies mostly in front of it: the arms the fit
+    // placed beside the torso while they hang in front of it (a person seen from the side or
+    // close), another person passing in front. On pf2_synth with the learned detector 15 % of
+    // the pixels of the torso vertices the fit showed the camera were the person's arm, 6.6 cm in
+    // front of the fitted surface, and the median put the body 0.5-0.6 cm nearer than the torso's
+    // own pixels would (1.6 cm RMS); the 0.6 quantile was 0.3 cm beyond it (1.0-1.2 cm RMS;
+    // docs/BENCHMARKS.md, "Bodies in the map").
+    double quantile = 0.6;
   };
 
   struct Result {
@@ -45,8 +54,8 @@ class BodySurfaceAligner {
   // The model must outlive the aligner. Throws pf2::Error for options out of range.
   BodySurfaceAligner(const BodyModel& model, const Options& options);
 
-  // Moves body_c (camera frame) along the ray through its pelvis so that the area-weighted median
-  // of (measured depth - vertex depth) over the visible torso vertices becomes 0; the measured
+  // Moves body_c (camera frame) along the ray through its pelvis so that the area-weighted
+  // Options::quantile of (measured depth - vertex depth) over the visible torso vertices becomes 0; the measured
   // depth is that of the person's points points_c in the vertex's pixel. Leaves body_c as it was
   // when Result::applied is false. Thread safe (const).
   Result align(const std::vector<Eigen::Vector3d>& points_c, const CameraIntrinsics& intrinsics,
