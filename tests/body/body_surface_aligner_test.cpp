@@ -4,7 +4,6 @@
 // ones, and the cases where it must leave the body alone.
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -58,7 +57,7 @@ TEST(BodySurfaceAligner, MovesTheBodyOntoTheMeasuredSurface) {
 }
 
 // A third of the points wrong (the mask bled onto the wall 1.5 m behind the person, and onto
-// someone 0.6 m in front): the median still finds the surface.
+// someone 0.6 m in front): the default quantile still finds the surface.
 TEST(BodySurfaceAligner, HoldsAgainstAThirdOfWrongPoints) {
   const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
   const BodyParameters truth = knownBody();
@@ -78,7 +77,7 @@ TEST(BodySurfaceAligner, HoldsAgainstAThirdOfWrongPoints) {
 
 // Too few torso vertices with a measured depth, or a difference beyond max_shift (someone else's points): the body
 // stays where it was.
-TEST(BodySurfaceAligner, LeavesTheBodyWhenItCannotTrustTheMedian) {
+TEST(BodySurfaceAligner, LeavesTheBodyWhenItCannotTrustTheDifference) {
   const CameraIntrinsics K = CameraIntrinsics::tumFreiburg3();
   const BodyParameters truth = knownBody();
   const std::vector<Eigen::Vector3d> points = renderedPoints(truth, K);

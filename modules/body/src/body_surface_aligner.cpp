@@ -44,7 +44,7 @@ class CellImage {
 };
 
 // A vertex of the surface the camera sees, and its share of the image: a third of its triangles'
-// area, foreshortened, over z^2 (so that the median weighs the surface as the pixels do, not by
+// area, foreshortened, over z^2 (so that the quantile weighs the surface as the pixels do, not by
 // how densely the mesh is made there).
 struct VisibleVertex {
   Eigen::Vector3f p;

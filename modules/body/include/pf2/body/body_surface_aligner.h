@@ -5,10 +5,10 @@
 // cm off along the viewing ray (RMS; pf2_slam on pf2_synth with the learned detector), more than
 // across it. The aligner compares the torso surface the fitted body shows the camera with the
 // person's depth at the same pixels and moves the body along the ray through its pelvis by the
-// difference at a quantile a little above the median, weighted by image area (robust to a minority
-// of wrong points: mask bleeding onto the background, an arm in front). The torso alone, because it is fitted best and lies
-// around the pelvis: with the limbs and the head, a leg or an arm fitted in the wrong place moves
-// the body. See docs/body.md, "Surface alignment".
+// difference at a quantile a little above the median, weighted by image area (robust to a
+// minority of wrong points: mask bleeding onto the background, an arm in front). The torso alone,
+// because it is fitted best and lies around the pelvis: with the limbs and the head, a leg or an
+// arm fitted in the wrong place moves the body. See docs/body.md, "Surface alignment".
 #include <vector>
 
 #include <Eigen/Core>
@@ -31,8 +31,8 @@ class BodySurfaceAligner {
     double match_px = 2.0;
     // Fewer visible torso vertices with a measured depth than this = no alignment, [1, 1e6].
     int min_vertices = 40;
-    // A median difference beyond this (m) is not trusted (someone else's points, a fit far off):
-    // the body stays, [0, 10].
+    // A difference (at the quantile below) beyond this (m) is not trusted (someone else's points,
+    // a fit far off): the body stays, [0, 10].
     double max_shift = 0.3;
     // The weighted quantile of (measured - vertex depth) the body is moved to, (0, 1); 0.5 = the
     // median. What lies wrongly in the torso's pixels lies mostly in front of it: the arms the fit
@@ -55,8 +55,8 @@ class BodySurfaceAligner {
   BodySurfaceAligner(const BodyModel& model, const Options& options);
 
   // Moves body_c (camera frame) along the ray through its pelvis so that the area-weighted
-  // Options::quantile of (measured depth - vertex depth) over the visible torso vertices becomes 0; the measured
-  // depth is that of the person's points points_c in the vertex's pixel. Leaves body_c as it was
+  // Options::quantile of (measured depth - vertex depth) over the visible torso vertices becomes
+  // 0; the measured depth is that of the person's points points_c in the vertex's pixel. Leaves body_c as it was
   // when Result::applied is false. Thread safe (const).
   Result align(const std::vector<Eigen::Vector3d>& points_c, const CameraIntrinsics& intrinsics,
                BodyParameters* body_c) const;
