@@ -34,7 +34,8 @@ namespace {
 const char* kUsage =
     "Usage: pf2_body_fit_eval SEQUENCE_DIR [--every K] [--noise PX] [--detector gt|learned]\n"
     "                         [--min-visible F] [--temporal] [--no-depth] [--frames N] [--json]\n"
-    "                         [--no-keypoint-offsets] [--no-side-views] [--no-surface-alignment] [--surface-quantile Q]\n"
+    "                         [--no-keypoint-offsets] [--no-side-views] [--no-surface-alignment]\n"
+    "                         [--surface-quantile Q]\n"
     "                         [--weight-depth W] [--weight-pose W] [--weight-shape W] [--weight-upright W]\n"
     "                         [--refine] [--refine-input PX] [--refine-margin M]\n"
     "Fits the body model to every person in view (gt/boxes.txt, visible fraction >= F, default 0.3)\n"
