@@ -541,25 +541,71 @@ TEST(LongestBodySegment, MeasuresThePoseOnThePlaneAtItsDepth) {
   EXPECT_EQ(longestBodySegment(sides, 2.0, o.intrinsics, 0.1), 0.0);
 }
 
+// How many fits one observation gives with these options.
+size_t fitCount(const BodyObservation& o, const BodyTrackFitter::Options& options) {
+  BodyTrackFitter fitter(model(), options);
+  fitter.offer(o);
+  return fitter.finish().size();
+}
+
 // A near person's mask that took the pose of someone farther away (seen beside or through them):
 // the pose measures a fifth of a body at the near person's depth, and is not fitted; the same
 // pose at its own depth, or with the check off, is.
 TEST(BodyTrackFitter, APoseFarSmallerThanABodyAtThePersonsDepthIsNotFitted) {
   BodyTrackFitter::Options options;
   options.asynchronous = false;
+  options.min_torso_side = 0.0;  // this check alone (the torso's sides would also refuse this pose)
   ASSERT_GT(options.min_pose_size, 0.0);
-  const auto fitsOf = [&](const BodyObservation& o, const BodyTrackFitter::Options& with) {
-    BodyTrackFitter fitter(model(), with);
-    fitter.offer(o);
-    return fitter.finish().size();
-  };
   BodyObservation near = observationAt(0.0, 0);
-  EXPECT_EQ(fitsOf(near, options), 1u);
+  EXPECT_EQ(fitCount(near, options), 1u);
   near.depth.setTo(0.5);  // a person five times nearer than the pose (its pelvis lies at 2.5 m)
   EXPECT_LT(longestBodySegment(near.keypoints, 0.5, near.intrinsics, 0.1), options.min_pose_size);
-  EXPECT_EQ(fitsOf(near, options), 0u);
+  EXPECT_EQ(fitCount(near, options), 0u);
   options.min_pose_size = 0.0;
-  EXPECT_EQ(fitsOf(near, options), 1u);
+  EXPECT_EQ(fitCount(near, options), 1u);
+}
+
+// A torso side is measured only where both its keypoints are sure and in full view: the person of
+// personInCamera() at 2.5 m measures a real body's side there; a hip in the edge band, or unsure,
+// leaves only the other side, and with neither there is nothing to measure.
+TEST(ShortestTorsoSide, MeasuresOnlySidesInFullView) {
+  const BodyObservation o = observationAt(0.0, 0);
+  const CameraIntrinsics& K = o.intrinsics;
+  const double at_its_depth = shortestTorsoSide(o.keypoints, 2.5, K, 0.1, 16.0);
+  EXPECT_GT(at_its_depth, 0.35);
+  EXPECT_LT(at_its_depth, 0.55);
+  EXPECT_NEAR(shortestTorsoSide(o.keypoints, 1.25, K, 0.1, 16.0), at_its_depth / 2.0, 1e-9);
+  std::array<BodyKeypoint, kCocoKeypointCount> sides{};
+  sides[5] = {300, 200, 0.9};   // left shoulder
+  sides[11] = {310, 300, 0.9};  // left hip, 100 px below
+  sides[6] = {250, 200, 0.9};   // right shoulder
+  sides[12] = {255, 250, 0.9};  // right hip, 50 px below: the shorter side
+  EXPECT_NEAR(shortestTorsoSide(sides, 2.0, K, 0.1, 16.0), std::hypot(5 * 2.0 / K.fx, 50 * 2.0 / K.fy), 1e-12);
+  sides[12].v = K.height - 10;  // in the bottom edge band: that side is not measured
+  EXPECT_NEAR(shortestTorsoSide(sides, 2.0, K, 0.1, 16.0), std::hypot(10 * 2.0 / K.fx, 100 * 2.0 / K.fy), 1e-12);
+  sides[11].confidence = 0.05;
+  EXPECT_EQ(shortestTorsoSide(sides, 2.0, K, 0.1, 16.0), 0.0);
+}
+
+// A whole body's keypoints squeezed into the part in view of a person close to the lens: the pose
+// measures half a body at the person's depth, enough for min_pose_size but not for the torso's
+// sides, and is not fitted; with the check off it is, and so is the same pose with its hips at the
+// image's bottom edge (a person cut there, whose sides are not measured).
+TEST(BodyTrackFitter, APoseSqueezedToHalfABodyAtThePersonsDepthIsNotFitted) {
+  BodyTrackFitter::Options options;
+  options.asynchronous = false;
+  ASSERT_GT(options.min_torso_side, 0.0);
+  BodyObservation squeezed = observationAt(0.0, 0);
+  squeezed.depth.setTo(1.25);  // twice as near as the pose's own depth
+  ASSERT_GT(longestBodySegment(squeezed.keypoints, 1.25, squeezed.intrinsics, 0.1), options.min_pose_size);
+  ASSERT_LT(shortestTorsoSide(squeezed.keypoints, 1.25, squeezed.intrinsics, 0.1, 16.0), options.min_torso_side);
+  EXPECT_EQ(fitCount(squeezed, options), 0u);
+  BodyTrackFitter::Options unchecked = options;
+  unchecked.min_torso_side = 0.0;
+  EXPECT_EQ(fitCount(squeezed, unchecked), 1u);
+  BodyObservation cut = squeezed;
+  for (const int hip : {11, 12}) cut.keypoints[hip].v = squeezed.intrinsics.height - 5;
+  EXPECT_EQ(fitCount(cut, options), 1u);
 }
 
 // Keypoint refinement: the hook gets the observation's colour, the person's box and keypoints in

@@ -42,6 +42,23 @@ double longestBodySegment(const std::array<BodyKeypoint, kCocoKeypointCount>& ke
   return longest;
 }
 
+double shortestTorsoSide(const std::array<BodyKeypoint, kCocoKeypointCount>& keypoints, double depth,
+                         const CameraIntrinsics& K, double min_confidence, double edge_band) {
+  const auto inView = [&](const BodyKeypoint& k) {
+    return k.confidence >= min_confidence && k.u > edge_band && k.v > edge_band && k.u < K.width - 1 - edge_band &&
+           k.v < K.height - 1 - edge_band;
+  };
+  double shortest = 0.0;
+  for (const auto& [shoulder, hip] : {std::pair<int, int>{5, 11}, std::pair<int, int>{6, 12}}) {
+    const BodyKeypoint& a = keypoints[static_cast<size_t>(shoulder)];
+    const BodyKeypoint& b = keypoints[static_cast<size_t>(hip)];
+    if (!(inView(a) && inView(b))) continue;
+    const double side = std::hypot((a.u - b.u) * depth / K.fx, (a.v - b.v) * depth / K.fy);
+    shortest = shortest > 0.0 ? std::min(shortest, side) : side;
+  }
+  return shortest;
+}
+
 // What the fitting thread remembers of one track.
 struct BodyTrackFitter::TrackState {
   bool has_previous = false;
@@ -153,17 +170,25 @@ bool BodyTrackFitter::startsNearThePerson(const BodyParameters& start, const std
 
 // True without points or a segment with both ends (nothing to measure the pose by).
 bool BodyTrackFitter::poseFitsTheDepth(const BodyFitInput& input, const CameraIntrinsics& K) const {
-  if (input.points_c.empty() || options_.min_pose_size <= 0) return true;
-  const double size =
-      longestBodySegment(input.keypoints, medianDepth(input.points_c), K, options_.fitter.min_confidence);
-  return size == 0.0 || size >= options_.min_pose_size;
+  if (input.points_c.empty()) return true;
+  const double depth = medianDepth(input.points_c);
+  const double confidence = options_.fitter.min_confidence;
+  if (options_.min_pose_size > 0) {
+    const double size = longestBodySegment(input.keypoints, depth, K, confidence);
+    if (size > 0.0 && size < options_.min_pose_size) return false;
+  }
+  if (options_.min_torso_side > 0) {
+    const double side = shortestTorsoSide(input.keypoints, depth, K, confidence, options_.fitter.edge_band);
+    if (side > 0.0 && side < options_.min_torso_side) return false;
+  }
+  return true;
 }
 
 void BodyTrackFitter::fitOne(const BodyObservation& o) {
   TrackState& track = tracks_[o.track_id];
   BodyParameters start;
   const BodyFitInput input = fitInput(o, track, &start);
-  if (!poseFitsTheDepth(input, o.intrinsics)) return;  // someone else's pose
+  if (!poseFitsTheDepth(input, o.intrinsics)) return;  // someone else's pose, or a squeezed one
   // The shape is held only where the start carries it (a warm start); otherwise the shape prior.
   const bool hold_shape = input.previous && track.shapeHeld(options_.shape_fits);
   BodyFitResult result;

@@ -237,6 +237,9 @@ void bodySettings(SlamOptions& o, Settings& s) {
            "a warm start whose pelvis lies farther in depth from the person's median depth is not used (0 = no check)");
   s.number("bodies.min_pose_size", &b.min_pose_size, 0.0, 2.0, "metres",
            "a pose whose longest torso side or limb segment is shorter at the person's depth is not fitted (0 = no check)");
+  s.number("bodies.min_torso_side", &b.min_torso_side, 0.0, 2.0, "metres",
+           "a pose with a torso side (shoulder to hip) in full view shorter than this at the person's depth is not "
+           "fitted: a whole body squeezed into the part of a near person in view (0 = no check)");
   s.number("bodies.weight_temporal", &b.weight_temporal, 0.0, 100.0, "", "pull towards the previous fit's pose");
   s.boolean("bodies.asynchronous", &b.asynchronous, "fits in their own thread; false: in the front end (repeatable)");
   s.boolean("bodies.keypoint_offsets", &b.fitter.keypoint_offsets,

@@ -74,6 +74,13 @@ struct BodyTrackFit {
 double longestBodySegment(const std::array<BodyKeypoint, kCocoKeypointCount>& keypoints, double depth,
                           const CameraIntrinsics& K, double min_confidence);
 
+// The shorter of a pose's two torso sides (shoulder to hip of one side) whose two keypoints have
+// at least min_confidence and lie in the image, more than edge_band pixels inside its edges, in
+// metres on the plane `depth` metres in front of camera K; 0 when neither side is seen so.
+// Thread safe.
+double shortestTorsoSide(const std::array<BodyKeypoint, kCocoKeypointCount>& keypoints, double depth,
+                         const CameraIntrinsics& K, double min_confidence, double edge_band);
+
 class BodyTrackFitter {
  public:
   struct Options {
@@ -91,6 +98,15 @@ class BodyTrackFitter {
     // bottom, given the pose of the person seated behind them, measured 0.07-0.10 m there; their
     // fits put the pelvis 0.3-0.4 m off).
     double min_pose_size = 0.15;
+    // m: a pose with a torso side in full view (shortestTorsoSide, the fitter's confidence and
+    // edge band) shorter than this at the median depth of the person's points is not fitted,
+    // [0, 2]; 0 = no check. Between COCO's shoulder and hip a torso side measures about 0.45 m.
+    // MoveNet, given a person close to the lens and cut by the border, puts a whole body's
+    // keypoints on the part in view: on pf2_synth a person at 1 m walking out of the view's
+    // corner, a fifth of them in view, had sides of 0.17 m and fits 30 cm off for a second, the
+    // visible part taken for a whole body at half the size. 0.35 also drops fits of people seen
+    // whole (their sides, foreshortened, measure 0.3-0.4 m): docs/BENCHMARKS.md.
+    double min_torso_side = 0.3;
     double weight_temporal = 1.0;  // pull towards the warm start's pose (BodyFitter::Options), [0, 100]
     bool asynchronous = true;      // false: fit inside offer() (slower; the same fits on every run)
     // Optional: a closer look at the keypoints before each fit (e.g. PoseRefiner). Called in the
@@ -129,7 +145,8 @@ class BodyTrackFitter {
   BodyFitInput fitInput(const BodyObservation& observation, const TrackState& track, BodyParameters* start);
   // Whether a warm start's pelvis lies within max_start_depth_gap of the points' median depth.
   bool startsNearThePerson(const BodyParameters& start, const std::vector<Eigen::Vector3d>& points_c) const;
-  // Whether the input's keypoints measure at least min_pose_size at its points' median depth.
+  // Whether the input's keypoints measure at least min_pose_size, and their torso sides in view at
+  // least min_torso_side, at its points' median depth.
   bool poseFitsTheDepth(const BodyFitInput& input, const CameraIntrinsics& K) const;
 
   const BodyModel& model_;
