@@ -168,7 +168,8 @@ bool BodyTrackFitter::startsNearThePerson(const BodyParameters& start, const std
   return std::abs(pelvis_depth - medianDepth(points_c)) <= options_.max_start_depth_gap;
 }
 
-// True without points or a segment with both ends (nothing to measure the pose by).
+// True without points, or where a check finds nothing to measure (no segment with both ends, no
+// torso side in full view).
 bool BodyTrackFitter::poseFitsTheDepth(const BodyFitInput& input, const CameraIntrinsics& K) const {
   if (input.points_c.empty()) return true;
   const double depth = medianDepth(input.points_c);
