@@ -28,6 +28,11 @@ BodyFitter::Options withTemporal(BodyFitter::Options options, double weight_temp
   return options;
 }
 
+// Metres between two keypoints on the plane `depth` metres in front of camera K.
+double metresApart(const BodyKeypoint& a, const BodyKeypoint& b, double depth, const CameraIntrinsics& K) {
+  return std::hypot((a.u - b.u) * depth / K.fx, (a.v - b.v) * depth / K.fy);
+}
+
 }  // namespace
 
 double longestBodySegment(const std::array<BodyKeypoint, kCocoKeypointCount>& keypoints, double depth,
@@ -37,7 +42,7 @@ double longestBodySegment(const std::array<BodyKeypoint, kCocoKeypointCount>& ke
     const BodyKeypoint& a = keypoints[static_cast<size_t>(segment[0])];
     const BodyKeypoint& b = keypoints[static_cast<size_t>(segment[1])];
     if (!(a.confidence >= min_confidence && b.confidence >= min_confidence)) continue;
-    longest = std::max(longest, std::hypot((a.u - b.u) * depth / K.fx, (a.v - b.v) * depth / K.fy));
+    longest = std::max(longest, metresApart(a, b, depth, K));
   }
   return longest;
 }
@@ -53,7 +58,7 @@ double shortestTorsoSide(const std::array<BodyKeypoint, kCocoKeypointCount>& key
     const BodyKeypoint& a = keypoints[static_cast<size_t>(shoulder)];
     const BodyKeypoint& b = keypoints[static_cast<size_t>(hip)];
     if (!(inView(a) && inView(b))) continue;
-    const double side = std::hypot((a.u - b.u) * depth / K.fx, (a.v - b.v) * depth / K.fy);
+    const double side = metresApart(a, b, depth, K);
     shortest = shortest > 0.0 ? std::min(shortest, side) : side;
   }
   return shortest;
