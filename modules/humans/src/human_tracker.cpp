@@ -21,7 +21,7 @@ void HumanTracker::reset() {
   next_id_ = 1;
 }
 
-Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* centres_used) const {
+Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* centres_used, double* speed_out) const {
   const std::vector<HumanTrackPoint>& points = tracks_[live.track].points;
   const HumanTrackPoint& last = points.back();
   // A straight line fitted (least squares) to the centres of the last velocity_window seconds,
@@ -40,11 +40,13 @@ Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* c
     ++n;
   }
   if (centres_used != nullptr) *centres_used = n;
+  if (speed_out != nullptr) *speed_out = 0.0;
   const double variance = sum_tt - sum_t * sum_t / n;
   if (n < 2 || variance <= 1e-9) return last.p_w;
   Eigen::Vector3d velocity = (sum_tp - sum_t * sum_p / n) / variance;
   const double speed = velocity.norm();
   if (speed > options_.max_speed) velocity *= options_.max_speed / speed;
+  if (speed_out != nullptr) *speed_out = std::min(speed, options_.max_speed);
   const Eigen::Vector3d at_last = (sum_p - velocity * sum_t) / n;  // the line at the last centre's time
   return at_last + velocity * (timestamp - last.timestamp);
 }
@@ -80,13 +82,14 @@ std::vector<int> HumanTracker::associatePredicted(double timestamp, const std::v
   std::vector<std::vector<double>> cost(centres_w.size(), std::vector<double>(live_.size()));
   for (size_t l = 0; l < live_.size(); ++l) {
     int centres_used = 1;
-    const Eigen::Vector3d predicted = predict(live_[l], timestamp, &centres_used);
+    double speed = 0.0;
+    const Eigen::Vector3d predicted = predict(live_[l], timestamp, &centres_used, &speed);
     const double unseen = timestamp - tracks_[live_[l].track].points.back().timestamp;
     // A prediction made of n centres carries their noise / sqrt(n): the centre it is compared with
     // may lie further from it when n is small (a track just seen again after a gap rests on one
     // centre, which may itself be off).
-    const double gate =
-        options_.gate * std::sqrt(1.0 + 1.0 / centres_used) + options_.gate_growth * std::max(0.0, unseen);
+    const double growth = speed < options_.still_speed ? options_.still_gate_growth : options_.gate_growth;
+    const double gate = options_.gate * std::sqrt(1.0 + 1.0 / centres_used) + growth * std::max(0.0, unseen);
     const PersonAppearance& track_appearance = appearance_[live_[l].track];
     for (size_t c = 0; c < centres_w.size(); ++c) {
       const double distance = (centres_w[c] - predicted).norm();

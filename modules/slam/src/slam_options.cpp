@@ -194,6 +194,11 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "predicted: constant velocity, gated Hungarian; paper: closest centre of the previous frame");
   s.number("humans.gate", &h.gate, 0.05, 10.0, "metres", "largest distance between a track's prediction and a centre");
   s.number("humans.gate_growth", &h.gate_growth, 0.0, 10.0, "m/s", "gate growth while a track is unseen");
+  s.number("humans.still_speed", &h.still_speed, 0.0, 10.0, "m/s",
+           "a person whose track moved slower than this when last seen is looked for within a gate growing by "
+           "humans.still_gate_growth instead of humans.gate_growth while unseen (0 = off)");
+  s.number("humans.still_gate_growth", &h.still_gate_growth, 0.0, 10.0, "m/s",
+           "how fast the gate of a person last seen standing (humans.still_speed) grows while they are unseen");
   s.integer("humans.max_missed", &h.max_missed, 0, 100000, "frames", "a track lives this long unseen");
   s.number("humans.velocity_window", &h.velocity_window, 0.01, 10.0, "seconds", "a track's velocity is measured over");
   s.number("humans.max_speed", &h.max_speed, 0.1, 20.0, "m/s", "velocity clamp");

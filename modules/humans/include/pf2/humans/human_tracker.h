@@ -63,6 +63,14 @@ class HumanTracker {
     double gate = 0.5;
     double gate_growth = 1.0;       // metres per second unseen added to the gate (the person may
                                     // have turned or stopped while hidden)
+    // A person last seen standing (the speed of their track's fitted line under still_speed, m/s)
+    // is looked for within a gate that grows by still_gate_growth (m/s) instead while unseen: a
+    // seated or standing person missed by the detector for a few tenths of a second is mostly
+    // still there, and a gate grown at walking pace let their track take someone else who came
+    // into view 0.7-1.2 m away (pf2_synth halfsphere seed 23: two people's tracks swapped).
+    // still_speed 0 = off. Repeatable runs, docs/BENCHMARKS.md "Bodies in the map".
+    double still_speed = 0.3;        // m/s, [0, 10]
+    double still_gate_growth = 0.3;  // m/s, [0, 10]
     int max_missed = 30;            // frames a track lives without a centre (1 s at 30 Hz)
     double velocity_window = 0.5;   // seconds of the track's past its velocity is measured over
                                     // (longer: less noise from box jitter, slower to follow turns)
@@ -152,7 +160,9 @@ class HumanTracker {
     int missed;     // consecutive frames without a centre
   };
   // Where the track's person is at `timestamp`; centres_used: how many centres the line was fitted to.
-  Eigen::Vector3d predict(const Live& live, double timestamp, int* centres_used = nullptr) const;
+  // speed_out: the speed of that line (m/s, at most max_speed; 0 for a single centre).
+  Eigen::Vector3d predict(const Live& live, double timestamp, int* centres_used = nullptr,
+                          double* speed_out = nullptr) const;
   std::vector<int> associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const;
   std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
                                       const std::vector<PersonAppearance>& appearances) const;
