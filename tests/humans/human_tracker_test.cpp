@@ -415,15 +415,11 @@ TEST(HumanTracker, AppearanceKeepsTwoPeopleApartWherePositionsCross) {
   }
 }
 
-// A walking person's centre jumps 25 cm for two frames (a second person entering the view beside
-// them, their boxes merged), then both are seen apart: the prediction, a line fitted to the last
-// half second, stays with the walker (from the last centre and the velocity to the oldest one in
-// the window it would lie next to the newcomer, who would take the walker's id).
-// A person seen for 20 frames, then missed for 13 (0.43 s); one centre appears 0.8 m to the side of
-// where their track predicts them. Standing, their gate grows by still_gate_growth (0.3 m/s) while
-// unseen, 0.52 + 0.13 m: the centre is someone else and starts a new track. At gate_growth (1 m/s,
-// still_speed 0) it would lie within 0.52 + 0.43 m and take their id. A walker (1.2 m/s) keeps
-// the gate grown at walking pace and their id.
+// A person seen for 20 frames, then missed for 13; 0.47 s after they were last seen one centre
+// appears 0.8 m to the side of where their track predicts them. Standing, their gate has grown by
+// still_gate_growth (0.3 m/s) to 0.52 + 0.14 m: the centre is someone else and starts a new track.
+// At gate_growth (1 m/s, still_speed 0) it would lie within 0.52 + 0.47 m and take their id. A
+// walker (1.2 m/s) keeps the gate grown at walking pace and their id.
 TEST(HumanTracker, APersonLastSeenStandingIsLookedForNearWhereTheyStood) {
   const auto idOfCentreBeside = [](const HumanTracker::Options& options, double speed) {
     HumanTracker tracker(options);
@@ -440,6 +436,10 @@ TEST(HumanTracker, APersonLastSeenStandingIsLookedForNearWhereTheyStood) {
   EXPECT_EQ(idOfCentreBeside(options, 0.0), 1);
 }
 
+// A walking person's centre jumps 25 cm for two frames (a second person entering the view beside
+// them, their boxes merged), then both are seen apart: the prediction, a line fitted to the last
+// half second, stays with the walker (from the last centre and the velocity to the oldest one in
+// the window it would lie next to the newcomer, who would take the walker's id).
 TEST(HumanTracker, AJumpOfTwoFramesDoesNotCarryThePredictionAway) {
   HumanTracker tracker;
   for (int f = 0; f < 17; ++f) {

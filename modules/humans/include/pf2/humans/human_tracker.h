@@ -11,8 +11,9 @@
 //   kPredicted — ours: each track predicts where its person is now from a constant velocity
 //                (a line fitted to its centres of the last velocity_window seconds); centres and
 //                tracks are matched by minimum total distance (Hungarian) within a gate that
-//                widens the longer a track has been unseen and the fewer centres its prediction
-//                rests on (gate x sqrt(1 + 1/n), n centres in velocity_window); tracks
+//                widens the longer a track has been unseen (more slowly for a person last seen
+//                standing: still_speed) and the fewer centres its prediction rests on
+//                (gate x sqrt(1 + 1/n), n centres in velocity_window); tracks
 //                survive max_missed frames without a centre, so a person hidden for a moment
 //                keeps their id; a centre no live track takes is first compared with the
 //                tracks lost or unmatched within the last reid_window seconds, by appearance
