@@ -46,7 +46,7 @@ Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* c
   Eigen::Vector3d velocity = (sum_tp - sum_t * sum_p / n) / variance;
   const double speed = velocity.norm();
   if (speed > options_.max_speed) velocity *= options_.max_speed / speed;
-  if (speed_out != nullptr) *speed_out = std::min(speed, options_.max_speed);
+  if (speed_out != nullptr) *speed_out = velocity.norm();
   const Eigen::Vector3d at_last = (sum_p - velocity * sum_t) / n;  // the line at the last centre's time
   return at_last + velocity * (timestamp - last.timestamp);
 }
