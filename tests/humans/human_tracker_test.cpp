@@ -338,6 +338,10 @@ TEST(HumanTracker, WhoeverHidesALostPersonDoesNotTakeTheirId) {
     return ids;
   };
   HumanTracker::Options options;
+  // The hidden person stood: from rest they could not have reached the newcomer in 0.2 s either
+  // (max_acceleration; ANewTrackIsNotAPersonWhoCouldNotHaveWalkedThereFromRest). Off here, so that
+  // this rule is tested alone.
+  options.max_acceleration = 0.0;
   ASSERT_GT((in_front - hidden).norm(), options.gate * std::sqrt(1.0 + 1.0 / 15) + 6 / kRate * options.gate_growth);
   Ids ids = run(options, true, 6);
   EXPECT_EQ(ids.newcomer, 2);
@@ -434,6 +438,30 @@ TEST(HumanTracker, APersonLastSeenStandingIsLookedForNearWhereTheyStood) {
   EXPECT_EQ(idOfCentreBeside(options, 1.2), 1);
   options.still_speed = 0.0;
   EXPECT_EQ(idOfCentreBeside(options, 0.0), 1);
+}
+
+// A person in red stands for a second and is missed for 11 frames (0.37 s); then someone in the
+// same colours comes into view 1.2 m behind where they stood. From rest at max_acceleration
+// (1 m/s²) the person could have got 0.07 m beyond the gate by then: the newcomer is someone new.
+// By max_speed alone (2.5 m/s) they could have, and with max_acceleration 0 the newcomer takes
+// their id. The same newcomer 1.5 s later is within reach (1.1 m beyond the gate): re-identified.
+TEST(HumanTracker, ANewTrackIsNotAPersonWhoCouldNotHaveWalkedThereFromRest) {
+  const PersonAppearance red = colouredPerson({40, 40, 200});
+  const auto idOfNewcomer = [&](const HumanTracker::Options& options, int missed) {
+    HumanTracker tracker(options);
+    int f = 0;
+    for (; f < 30; ++f) tracker.update(f / kRate, {{-1.0, 0.2, 2.0}}, {red});
+    for (const int end = f + missed; f < end; ++f) tracker.update(f / kRate, {});
+    std::vector<int> ids;
+    for (const int end = f + options.reid_after; f < end; ++f) ids = tracker.update(f / kRate, {{-1.3, 0.2, 3.16}}, {red});
+    return ids.at(0);
+  };
+  HumanTracker::Options options;
+  ASSERT_DOUBLE_EQ(options.max_acceleration, 1.0);
+  EXPECT_EQ(idOfNewcomer(options, 11), 2);
+  EXPECT_EQ(idOfNewcomer(options, 45), 1);
+  options.max_acceleration = 0.0;
+  EXPECT_EQ(idOfNewcomer(options, 11), 1);
 }
 
 // A walking person's centre jumps 25 cm for two frames (a second person entering the view beside

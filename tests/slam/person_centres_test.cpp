@@ -40,14 +40,42 @@ TEST(PersonCentreDepth, TakesTheDepthsAroundTheBodyItsKeypointsLieOn) {
   SlamOptions options;
   ASSERT_GT(options.human_joint_band, 0.0);
   EXPECT_NEAR(centreDepth(scene, options), 3.0, 1e-6);
-  // Off: the interval's mean, between the two people.
+  // Off (and the depth groups off): the interval's mean, between the two people.
   options.human_joint_band = 0.0;
+  options.human_group_gap = 0.0;
   EXPECT_NEAR(centreDepth(scene, options), 2.4, 1e-6);
   // Keypoints too unsure to say whose body this is: the interval's mean as well.
-  options = SlamOptions();
   MergedMask unsure(24);
   for (Keypoint2d& k : unsure.detection.keypoints) k.score = 0.1f;
   EXPECT_NEAR(centreDepth(unsure, options), 2.4, 1e-6);
+}
+
+// Without keypoints to say whose body a merged mask is, the two people's depths lie 1 m apart with
+// none between them: the centre rests on the larger group, on one of them.
+TEST(PersonCentreDepth, WithoutABandTheLargestOfTheDepthGroupsIsTheBody) {
+  MergedMask scene(24);  // 60 % at 2 m in front, 40 % at 3 m
+  for (Keypoint2d& k : scene.detection.keypoints) k.score = 0.1f;
+  SlamOptions options;
+  ASSERT_GT(options.human_group_gap, 0.0);
+  ASSERT_LT(options.human_group_gap, 1.0);
+  EXPECT_NEAR(centreDepth(scene, options), 2.0, 1e-6);
+  MergedMask behind(16);  // 40 % in front: the person behind is the larger group
+  for (Keypoint2d& k : behind.detection.keypoints) k.score = 0.1f;
+  EXPECT_NEAR(centreDepth(behind, options), 3.0, 1e-6);
+  // Groups nearer each other than the gap are one body.
+  options.human_group_gap = 1.1;
+  EXPECT_NEAR(centreDepth(scene, options), 2.4, 1e-6);
+  // A few stray pixels in the gap (under 1 % of the depths) still part the groups.
+  options = SlamOptions();
+  scene.person.depth.at<float>(0, 0) = 2.5f;
+  scene.person.depth.at<float>(0, 1) = 2.6f;
+  EXPECT_NEAR(centreDepth(scene, options), 2.0, 1e-6);
+  // The other groups under human_group_min_share of the depths: the interval's mean (the
+  // keypoint band handles a sliver; nothing here says the few are someone else).
+  const MergedMask sliver(38);  // 95 % at 2 m
+  options.human_joint_band = 0.0;
+  ASSERT_GT(options.human_group_min_share, 0.05);
+  EXPECT_NEAR(centreDepth(sliver, options), 0.95 * 2.0 + 0.05 * 3.0, 1e-6);
 }
 
 TEST(PersonCentreDepth, KeypointsOnASliverBehindTheMaskKeepTheIntervalsMean) {
@@ -56,7 +84,10 @@ TEST(PersonCentreDepth, KeypointsOnASliverBehindTheMaskKeepTheIntervalsMean) {
   const MergedMask scene(36);
   SlamOptions options;
   ASSERT_GT(options.human_joint_min_share, 0.1);
+  options.human_group_gap = 0.0;
   EXPECT_NEAR(centreDepth(scene, options), 0.9 * 2.0 + 0.1 * 3.0, 1e-6);
+  // With the depth groups (the default) the sliver, 1 m behind, is left out.
+  EXPECT_NEAR(centreDepth(scene, SlamOptions()), 2.0, 1e-6);
 }
 
 // A pose whose keypoints lie off the person's own depth (the person behind them, outside their
@@ -81,8 +112,11 @@ TEST(PersonCentreDepth, ABoxWithoutMaskUsesAllItsDepths) {
   PersonDetection box_only = scene.detection;
   box_only.mask.release();
   long pixels = 0;
-  EXPECT_NEAR(personCentreDepth(scene.person, &box_only, SlamOptions(), &pixels), 2.4, 1e-6);
-  EXPECT_NEAR(personCentreDepth(scene.person, nullptr, SlamOptions(), &pixels), 2.4, 1e-6);
+  SlamOptions options;
+  options.human_group_gap = 0.0;
+  EXPECT_NEAR(personCentreDepth(scene.person, &box_only, options, &pixels), 2.4, 1e-6);
+  EXPECT_NEAR(personCentreDepth(scene.person, nullptr, options, &pixels), 2.4, 1e-6);
+  EXPECT_NEAR(personCentreDepth(scene.person, nullptr, SlamOptions(), &pixels), 2.0, 1e-6);  // the larger group
 }
 
 // What the body fit of the scene's person sees, with the band their centre found.
@@ -101,10 +135,17 @@ TEST(BodyDepth, KeepsOnlyTheDepthsOfTheBodyTheKeypointsLieOn) {
   EXPECT_EQ(cv::countNonZero(own), 16 * 80);  // the 2 m person in front is gone
   // No band (keypoints on a sliver; or off): the person's depth as the filter left it, shared.
   const MergedMask sliver(36);
-  EXPECT_EQ(bodyDepthOf(sliver, SlamOptions()).data, sliver.person.depth.data);
+  SlamOptions no_groups;
+  no_groups.human_group_gap = 0.0;
+  EXPECT_EQ(bodyDepthOf(sliver, no_groups).data, sliver.person.depth.data);
   SlamOptions off;
   off.human_joint_band = 0.0;
+  off.human_group_gap = 0.0;
   EXPECT_EQ(bodyDepthOf(scene, off).data, scene.person.depth.data);
+  // The band off, the depth groups on: the larger group, the 2 m person.
+  off.human_group_gap = SlamOptions().human_group_gap;
+  EXPECT_EQ(cv::countNonZero(bodyDepthOf(scene, off) == 2.0f), 24 * 80);
+  EXPECT_EQ(cv::countNonZero(bodyDepthOf(scene, off)), 24 * 80);
 }
 
 // One body seen as two people: the centre of a person behind a near one, whose depths were the

@@ -21,8 +21,8 @@ void HumanTracker::reset() {
   next_id_ = 1;
 }
 
-Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* centres_used, double* speed_out) const {
-  const std::vector<HumanTrackPoint>& points = tracks_[live.track].points;
+HumanTracker::TrackLine HumanTracker::fitLine(const HumanTrack& track) const {
+  const std::vector<HumanTrackPoint>& points = track.points;
   const HumanTrackPoint& last = points.back();
   // A straight line fitted (least squares) to the centres of the last velocity_window seconds,
   // extrapolated: a centre that jumps for a frame or two (a person entering the view beside this
@@ -39,16 +39,20 @@ Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* c
     sum_tp += t * it->p_w;
     ++n;
   }
-  if (centres_used != nullptr) *centres_used = n;
-  if (speed_out != nullptr) *speed_out = 0.0;
   const double variance = sum_tt - sum_t * sum_t / n;
-  if (n < 2 || variance <= 1e-9) return last.p_w;
+  if (n < 2 || variance <= 1e-9) return {last.p_w, Eigen::Vector3d::Zero(), n};
   Eigen::Vector3d velocity = (sum_tp - sum_t * sum_p / n) / variance;
   const double speed = velocity.norm();
   if (speed > options_.max_speed) velocity *= options_.max_speed / speed;
-  if (speed_out != nullptr) *speed_out = velocity.norm();
-  const Eigen::Vector3d at_last = (sum_p - velocity * sum_t) / n;  // the line at the last centre's time
-  return at_last + velocity * (timestamp - last.timestamp);
+  return {(sum_p - velocity * sum_t) / n, velocity, n};  // at_last: the line at the last centre's time
+}
+
+Eigen::Vector3d HumanTracker::predict(const Live& live, double timestamp, int* centres_used, double* speed_out) const {
+  const HumanTrack& track = tracks_[live.track];
+  const TrackLine line = fitLine(track);
+  if (centres_used != nullptr) *centres_used = line.centres;
+  if (speed_out != nullptr) *speed_out = line.velocity.norm();
+  return line.at_last + line.velocity * (timestamp - track.points.back().timestamp);
 }
 
 std::vector<int> HumanTracker::associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const {
@@ -137,7 +141,7 @@ int HumanTracker::reidentify(size_t fresh) const {
     const double unseen = first.timestamp - last.timestamp;
     if (unseen <= 0 || unseen > options_.reid_window) continue;
     const double speed = impliedSpeed(tracks_[t], first);
-    if (speed > options_.max_speed) continue;
+    if (speed > options_.max_speed || !reachable(tracks_[t], first)) continue;
     const double similarity = appearanceSimilarity(appearance, appearance_[t]);
     // Speed 0: the new track began within the gate of one of the lost track's last centres.
     const bool stayed = speed == 0.0 && unseen <= options_.reid_near_time;
@@ -166,6 +170,23 @@ double HumanTracker::impliedSpeed(const HumanTrack& old, const HumanTrackPoint& 
     if (elapsed > 0.0) least = std::min(least, beyond_gate / elapsed);
   }
   return least;
+}
+
+bool HumanTracker::reachable(const HumanTrack& old, const HumanTrackPoint& first) const {
+  const double a = options_.max_acceleration, v_max = options_.max_speed;
+  if (!(a > 0.0)) return true;
+  const double v0 = std::min(fitLine(old).velocity.norm(), v_max);
+  const double speeding_up = (v_max - v0) / a;  // seconds until max_speed
+  const size_t considered = std::min(old.points.size(), confirmedCentres());
+  for (size_t k = old.points.size() - considered; k < old.points.size(); ++k) {
+    const HumanTrackPoint& from = old.points[k];
+    const double t = std::max(0.0, first.timestamp - from.timestamp);
+    // From v0, speeding up at a in any direction, then at max_speed: the farthest they get.
+    const double reach = t < speeding_up ? v0 * t + 0.5 * a * t * t
+                                         : v0 * speeding_up + 0.5 * a * speeding_up * speeding_up + v_max * (t - speeding_up);
+    if ((first.p_w - from.p_w).norm() <= options_.gate + reach) return true;
+  }
+  return false;
 }
 
 // A person's half width and their centre's noise: a centre this near the line of sight to another

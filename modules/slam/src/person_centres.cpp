@@ -27,6 +27,44 @@ BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const Pers
   return band;
 }
 
+namespace {
+
+// Calls visit(z) for each depth z of `depth` (CV_32F, metres) with range.min < z < range.max.
+template <typename Visit>
+void forEachDepthIn(const cv::Mat& depth, const DepthInterval& range, Visit visit) {
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* row = depth.ptr<float>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (row[u] > range.min && row[u] < range.max) visit(row[u]);
+    }
+  }
+}
+
+// The groups ([first, last] bin index) of a depth histogram `bins` (summing to `total`) that runs
+// of at least `gap_bins` bins, together holding less than stray_share of the total, part.
+std::vector<std::pair<size_t, size_t>> binGroups(const std::vector<long>& bins, long total, double gap_bins,
+                                                 double stray_share) {
+  const double stray = stray_share * static_cast<double>(total);
+  std::vector<std::pair<size_t, size_t>> groups;
+  size_t start = 0;  // first bin of the group being grown
+  for (size_t b = 0; b < bins.size();) {
+    // The longest run of bins from b holding less than `stray` depths.
+    size_t end = b;
+    long held = 0;
+    while (end < bins.size() && static_cast<double>(held + bins[end]) < stray) held += bins[end++];
+    const bool parts = static_cast<double>(end - b) >= gap_bins && b > start && end < bins.size();
+    if (parts) {
+      groups.emplace_back(start, b - 1);
+      start = end;
+    }
+    b = std::max(end, b + 1);
+  }
+  groups.emplace_back(start, bins.size() - 1);
+  return groups;
+}
+
+}  // namespace
+
 // With human_depth_in_interval, a person whose detection came with a mask averages only the depths
 // inside their interval widened by the filter's human_margin: the dilated mask is taken whatever
 // its depth, so it brings in the edges of whoever stands in front or behind (without a mask the
@@ -35,9 +73,41 @@ double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetec
                          const SlamOptions& options, long* pixels, BodyDepthBand* band_out) {
   const DepthInterval range = intervalDepths(person, detection, options);
   const double d_m = meanDepth(person.depth, range.min, range.max, pixels);
-  const BodyDepthBand band = detection ? keypointDepthBand(person, *detection, options, *pixels) : BodyDepthBand();
+  BodyDepthBand band = detection ? keypointDepthBand(person, *detection, options, *pixels) : BodyDepthBand();
+  if (band.empty()) band = largestDepthGroup(person.depth, range, options.human_group_gap, options.human_group_min_share);
   if (band_out) *band_out = band;
   return band.empty() ? d_m : band.mean;
+}
+
+BodyDepthBand largestDepthGroup(const cv::Mat& depth, const DepthInterval& range, double gap, double min_share) {
+  if (!(gap > 0.0)) return {};
+  // Depths binned at kBin metres between the nearest and the farthest inside `range`.
+  constexpr double kBin = 0.05;
+  // A stretch of bins holding less than this share of the depths still parts two groups: the
+  // sensor's mixed pixels along one person's outline over the other lie between the two.
+  constexpr double kStrayShare = 0.01;
+  double nearest = std::numeric_limits<double>::infinity(), farthest = 0.0;
+  forEachDepthIn(depth, range, [&](float z) { nearest = std::min<double>(nearest, z), farthest = std::max<double>(farthest, z); });
+  if (!(farthest > nearest + gap)) return {};
+  std::vector<long> bins(static_cast<size_t>((farthest - nearest) / kBin) + 1, 0);
+  long total = 0;
+  forEachDepthIn(depth, range, [&](float z) { ++bins[static_cast<size_t>((z - nearest) / kBin)], ++total; });
+  const std::vector<std::pair<size_t, size_t>> groups = binGroups(bins, total, gap / kBin, kStrayShare);
+  if (groups.size() < 2) return {};
+  std::pair<size_t, size_t> largest = groups.front();
+  long largest_count = 0;
+  for (const auto& [first, last] : groups) {
+    long count = 0;
+    for (size_t b = first; b <= last; ++b) count += bins[b];
+    if (count > largest_count) largest = {first, last}, largest_count = count;
+  }
+  if (static_cast<double>(total - largest_count) < min_share * static_cast<double>(total)) return {};
+  // The band's bounds are exclusive: its lower one half a bin below the group's first bin, so that
+  // the nearest depth itself lies inside.
+  BodyDepthBand band{nearest + kBin * (static_cast<double>(largest.first) - 0.5),
+                     nearest + kBin * static_cast<double>(largest.second + 1)};
+  band.mean = meanDepth(depth, band.min, band.max);
+  return band;
 }
 
 DepthInterval intervalDepths(const DualBBoxFilter::Person& person, const PersonDetection* detection,

@@ -176,6 +176,11 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "a masked person's d_m and body fit use only their depths this near the median depth under their confident keypoints (0 = off)");
   s.number("humans.joint_min_share", &o.human_joint_min_share, 0.0, 1.0, "fraction",
            "humans.joint_band applies when at least this share of the person's depths lie in it");
+  s.number("humans.group_gap", &o.human_group_gap, 0.0, 5.0, "metres",
+           "a person without a keypoint band whose depths fall into groups this far apart is placed and fitted on the "
+           "largest group (0 = off)");
+  s.number("humans.group_min_share", &o.human_group_min_share, 0.0, 0.5, "fraction",
+           "humans.group_gap applies when the other groups hold at least this share of the person's depths");
   s.boolean("humans.box_from_depths", &o.human_box_from_depths,
             "a centre's box is that of the depths d_m rests on; false = the detector's box (eq. 2 as written)");
   s.number("humans.max_outside_pose", &o.human_max_outside_pose, 0.01, 1.0, "share",
@@ -199,6 +204,9 @@ void humanSettings(SlamOptions& o, Settings& s) {
            "humans.still_gate_growth instead of humans.gate_growth while unseen (0 = off)");
   s.number("humans.still_gate_growth", &h.still_gate_growth, 0.0, 10.0, "m/s",
            "how fast the gate of a person last seen standing (humans.still_speed) grows while they are unseen");
+  s.number("humans.max_acceleration", &h.max_acceleration, 0.0, 20.0, "m/s^2",
+           "a new track is re-identified as a lost one only where its person could have walked while unseen, from the "
+           "lost track's speed, speeding up at most this much (0 = off)");
   s.integer("humans.max_missed", &h.max_missed, 0, 100000, "frames", "a track lives this long unseen");
   s.number("humans.velocity_window", &h.velocity_window, 0.01, 10.0, "seconds", "a track's velocity is measured over");
   s.number("humans.max_speed", &h.max_speed, 0.1, 20.0, "m/s", "velocity clamp");

@@ -18,7 +18,8 @@
 //                keeps their id; a centre no live track takes is first compared with the
 //                tracks lost or unmatched within the last reid_window seconds, by appearance
 //                (colour histogram) and a reachable position (from any of its last reid_after
-//                centres: its last one may have come from a box that merged two people): of
+//                centres: its last one may have come from a box that merged two people; from the
+//                speed the track was last seen at, speeding up by at most max_acceleration): of
 //                those at reid_similarity or more (reid_near_similarity for a person back
 //                within reid_near_time where they were lost), the one scoring highest
 //                (similarity less reid_speed_cost per m/s its person must have walked while
@@ -72,6 +73,13 @@ class HumanTracker {
     // still_speed 0 = off. Repeatable runs, docs/BENCHMARKS.md "Bodies in the map".
     double still_speed = 0.3;        // m/s, [0, 10]
     double still_gate_growth = 0.3;  // m/s, [0, 10]
+    // A new track is re-identified as a lost one only where its person could have walked while
+    // unseen: from the speed of the lost track's fitted line, speeding up by at most this much
+    // (m/s², up to max_speed) in any direction, beyond the gate. max_speed alone let a standing
+    // person missed for a third of a second give their id to someone 1.2 m behind them who came
+    // into view (pf2_synth halfsphere seed 19). People start walking at about 1 m/s². 0 = off;
+    // in [0, 20].
+    double max_acceleration = 1.0;
     int max_missed = 30;            // frames a track lives without a centre (1 s at 30 Hz)
     double velocity_window = 0.5;   // seconds of the track's past its velocity is measured over
                                     // (longer: less noise from box jitter, slower to follow turns)
@@ -164,6 +172,15 @@ class HumanTracker {
   // speed_out: the speed of that line (m/s, at most max_speed; 0 for a single centre).
   Eigen::Vector3d predict(const Live& live, double timestamp, int* centres_used = nullptr,
                           double* speed_out = nullptr) const;
+  // The line fitted to the centres of `track`'s last velocity_window seconds: its position at the
+  // last centre's time, its velocity (at most max_speed; zero for fewer than two times) and the
+  // number of centres.
+  struct TrackLine {
+    Eigen::Vector3d at_last;
+    Eigen::Vector3d velocity;
+    int centres;
+  };
+  TrackLine fitLine(const HumanTrack& track) const;
   std::vector<int> associatePaper(const std::vector<Eigen::Vector3d>& centres_w) const;
   std::vector<int> associatePredicted(double timestamp, const std::vector<Eigen::Vector3d>& centres_w,
                                       const std::vector<PersonAppearance>& appearances) const;
@@ -172,6 +189,9 @@ class HumanTracker {
   // its first centre, at reid_similarity or more, the best by similarity less reid_speed_cost x
   // the speed its person must have walked.
   int reidentify(size_t fresh) const;
+  // Whether the person of `old` could have reached the gate of `first` (a later centre) from any of
+  // old's last reid_after centres, from the speed of old's fitted line (max_acceleration).
+  bool reachable(const HumanTrack& old, const HumanTrackPoint& first) const;
   // The least speed (m/s) that takes the person from any of old's last reid_after centres to within
   // the gate of `first` (0 when `first` lies within the gate of one of them).
   double impliedSpeed(const HumanTrack& old, const HumanTrackPoint& first) const;

@@ -30,6 +30,12 @@ struct BodyDepthBand {
 BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
                                 const SlamOptions& options, long own_pixels);
 
+// The largest group of the depths of `depth` (CV_32F, metres) inside `range`, when they fall into
+// groups parted by at least `gap` metres in which (next to) none lie (under 1 % of them, binned at
+// 5 cm) and the other groups hold at least min_share of them; else empty (and with gap 0). Thread
+// safe.
+BodyDepthBand largestDepthGroup(const cv::Mat& depth, const DepthInterval& range, double gap, double min_share);
+
 // The depths d_m averages before any keypointDepthBand: the person's interval widened by
 // filter.human_margin (with human_depth_in_interval and a mask), else all (0, infinity); valid.
 // Thread safe.
@@ -43,7 +49,8 @@ bool ownDepthBox(const DualBBoxFilter::Person& person, const DepthInterval& rang
 
 // d_m (metres) of one person (detection: theirs, or null): the mean of their depths inside their
 // interval widened by filter.human_margin (with human_depth_in_interval and a mask), or inside
-// their keypointDepthBand where it is not empty; 0 when they have no depth. *pixels gets the number
+// their keypointDepthBand where it is not empty, else inside the largestDepthGroup of their
+// interval's depths (human_group_gap) where there is one; 0 when they have no depth. *pixels gets the number
 // of the person's depths in their interval; *band (optional) their band. Thread safe.
 double personCentreDepth(const DualBBoxFilter::Person& person, const PersonDetection* detection,
                          const SlamOptions& options, long* pixels, BodyDepthBand* band = nullptr);

@@ -71,6 +71,14 @@ struct SlamOptions {
   // fit over all of D_h^t).
   double human_joint_band = 0.3;
   double human_joint_min_share = 0.2;
+  // For a person without such a band: when their depths d_m would use fall into groups parted by
+  // at least human_group_gap metres with (next to) no depth between them, and the groups other
+  // than the largest hold at least human_group_min_share of them, d_m, the box and the body fit
+  // use the largest group only. A segmentation that merged a person with someone entering in front
+  // of them, whose pose it has not found, put the centre between the two (pf2_synth halfsphere
+  // seed 2: the track of a standing person moved onto the walker). 0 = off.
+  double human_group_gap = 0.3;
+  double human_group_min_share = 0.1;
   // Eq. 2's box for a person's centre: the box of the depths d_m rests on, each side moved in past
   // human_box_trim of them (a few stray pixels at the person's depth do not stretch it), instead
   // of the detector's box. A false mask component the detector joined to a person stretches their
