@@ -25,7 +25,7 @@ HumanTracker::TrackLine HumanTracker::fitLine(const HumanTrack& track) const {
   const std::vector<HumanTrackPoint>& points = track.points;
   const HumanTrackPoint& last = points.back();
   // A straight line fitted (least squares) to the centres of the last velocity_window seconds,
-  // extrapolated: a centre that jumps for a frame or two (a person entering the view beside this
+  // which predict() extrapolates: a centre that jumps for a frame or two (a person entering the view beside this
   // one, their boxes merging) moves the line by its share of the window, not the whole prediction,
   // and box jitter averages out.
   double sum_t = 0.0, sum_tt = 0.0;
