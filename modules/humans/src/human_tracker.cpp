@@ -25,9 +25,9 @@ HumanTracker::TrackLine HumanTracker::fitLine(const HumanTrack& track) const {
   const std::vector<HumanTrackPoint>& points = track.points;
   const HumanTrackPoint& last = points.back();
   // A straight line fitted (least squares) to the centres of the last velocity_window seconds,
-  // which predict() extrapolates: a centre that jumps for a frame or two (a person entering the view beside this
-  // one, their boxes merging) moves the line by its share of the window, not the whole prediction,
-  // and box jitter averages out.
+  // which predict() extrapolates: a centre that jumps for a frame or two (a person entering the
+  // view beside this one, their boxes merging) moves the line by its share of the window, not the
+  // whole prediction, and box jitter averages out.
   double sum_t = 0.0, sum_tt = 0.0;
   Eigen::Vector3d sum_p = Eigen::Vector3d::Zero(), sum_tp = Eigen::Vector3d::Zero();
   int n = 0;
@@ -175,7 +175,7 @@ double HumanTracker::impliedSpeed(const HumanTrack& old, const HumanTrackPoint& 
 bool HumanTracker::reachable(const HumanTrack& old, const HumanTrackPoint& first) const {
   const double a = options_.max_acceleration, v_max = options_.max_speed;
   if (!(a > 0.0)) return true;
-  const double v0 = std::min(fitLine(old).velocity.norm(), v_max);
+  const double v0 = fitLine(old).velocity.norm();  // at most max_speed
   const double speeding_up = (v_max - v0) / a;  // seconds until max_speed
   const size_t considered = std::min(old.points.size(), confirmedCentres());
   for (size_t k = old.points.size() - considered; k < old.points.size(); ++k) {
