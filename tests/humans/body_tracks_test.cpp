@@ -210,6 +210,7 @@ TEST(BodyTrackAssembler, MovesOnWithTheTrackAfterItsLastFit) {
   }
   BodyTrackAssembler::Options options = noSmoothing();
   options.visible_centre = false;
+  options.centre_sigma = 0;  // the extrapolation alone (the next test draws it towards the centre)
   const auto lastPelvis = [&](const BodyTrackAssembler::Options& o) {
     const std::vector<BodyTrack> tracks =
         BodyTrackAssembler(model(), o).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
@@ -220,6 +221,42 @@ TEST(BodyTrackAssembler, MovesOnWithTheTrackAfterItsLastFit) {
   EXPECT_LT((lastPelvis(options) - on_line(1.3)).norm(), 1e-9);
   options.max_extrapolation = 0.2;  // 0.3 s after the last fit: beyond it, placed by the centre
   EXPECT_LT((lastPelvis(options) - on_line(1.0)).norm(), 1e-9);
+}
+
+// A person standing still, fitted up to 1 s, who then walks off at 1 m/s along x with no more
+// fits (their poses refused): the frames after the last fit follow the eq. 2 centre more the longer
+// it has been (centre_sigma: the extrapolation, at a standstill, grows less certain as 1/2 a t^2),
+// while a centre a metre off after 0.1 s (someone else's pixels) is not believed.
+TEST(BodyTrackAssembler, AfterItsLastFitATrackIsDrawnTowardsItsCentreAsTimeGoesBy) {
+  const Eigen::Vector3d still(0.0, 0.1, 3.0);
+  const auto walked = [&](double t) { return Eigen::Vector3d(still + Eigen::Vector3d(std::max(0.0, t - 1.0), 0, 0)); };
+  const BodyParameters body = withPelvisAt(personInCamera(), still);
+  std::vector<PersonSighting> seen;
+  std::vector<BodyTrackFit> fits;
+  for (int f = 0; f <= 14; ++f) {
+    seen.push_back(sightingAt(f, 0.1 * f, f == 11 ? Eigen::Vector3d(walked(1.1) + Eigen::Vector3d(1.0, 0, 0)) : walked(0.1 * f)));
+    if (f <= 10) fits.push_back(fitAt(f, 0.1 * f, body));
+  }
+  BodyTrackAssembler::Options options = noSmoothing();
+  options.visible_centre = false;
+  options.hold_height = false;
+  const auto pelvisAt = [&](const BodyTrackAssembler::Options& o, size_t frame) {
+    const std::vector<BodyTrack> tracks =
+        BodyTrackAssembler(model(), o).assemble(seen, fits, {{0, Eigen::Isometry3d::Identity()}}, CameraIntrinsics());
+    EXPECT_EQ(tracks.size(), 1u);
+    return tracks[0].frames.at(frame).pelvis_w;
+  };
+  // 0.4 s after the fit: the extrapolation's spread 1/2 x 2 x 0.16 = 0.16 m against the centre's
+  // 0.1 m, so 0.0256 / 0.0356 of the way to the centre, 0.4 m away.
+  const Eigen::Vector3d later = pelvisAt(options, 14);
+  EXPECT_NEAR(later.x(), 0.4 * 0.0256 / 0.0356, 1e-6);
+  EXPECT_NEAR((later - walked(1.4)).norm(), 0.4 * 0.01 / 0.0356, 1e-6);
+  // 0.2 s after it: 0.04 m against 0.1 m, so 0.0016 / 0.0116 of the way to the centre, 0.2 m away.
+  EXPECT_NEAR(pelvisAt(options, 12).x(), 0.2 * 0.0016 / 0.0116, 1e-6);
+  // The centre a metre off at 0.1 s, beyond three spreads of both (0.3 m): the extrapolation.
+  EXPECT_LT((pelvisAt(options, 11) - still).norm(), 1e-9);
+  options.centre_sigma = 0;  // the extrapolation alone: the person stays where they stood
+  EXPECT_LT((pelvisAt(options, 14) - still).norm(), 1e-9);
 }
 
 // The joints' rotations are smoothed over time: a knee whose fits jitter by +-0.1 rad around

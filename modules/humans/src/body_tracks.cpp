@@ -48,6 +48,10 @@ constexpr size_t kNearbyFits = 3;
 // fits on one side would be dropped one by one.
 constexpr double kMaxPelvisSpeed = 2.5;
 
+// Standard deviations (Options::centre_sigma and the extrapolation's together) beyond which a
+// frame's eq. 2 centre is not believed over the track's extrapolation.
+constexpr double kCentreGate = 3.0;
+
 // A person standing with the arms down, as eq. 4 places a person with no fit.
 BodyParameters standingBody(const Eigen::VectorXd& shape) {
   BodyParameters body;
@@ -353,6 +357,19 @@ Eigen::Vector3d BodyTrackAssembler::translationBetweenFits(const std::vector<con
          (3 * x2 - 2 * x3) * bodies[b].translation + (x3 - x2) * duration * vb;
 }
 
+Eigen::Vector3d BodyTrackAssembler::extrapolatedTowardsCentre(const Eigen::Vector3d& extrapolated_w,
+                                                              const Eigen::Vector3d& by_centre_w, double since) const {
+  const double centre_sigma = options_.centre_sigma;
+  if (!(centre_sigma > 0.0)) return extrapolated_w;
+  const double drift = 0.5 * options_.extrapolation_acceleration * since * since;
+  const double variance = drift * drift + centre_sigma * centre_sigma;
+  const Eigen::Vector3d towards_centre = by_centre_w - extrapolated_w;
+  // A centre further off than three standard deviations of the two together is a wrong one (a
+  // sliver of the person in view, another's pixels in the mask), not a change of pace.
+  if (towards_centre.squaredNorm() > kCentreGate * kCentreGate * variance) return extrapolated_w;
+  return extrapolated_w + (drift * drift / variance) * towards_centre;
+}
+
 BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const PersonSighting*>& seen,
                                             std::vector<const BodyTrackFit*> fitted,
                                             const std::map<int, Eigen::Isometry3d>& keyframe_poses,
@@ -397,30 +414,27 @@ BodyTrack BodyTrackAssembler::assembleTrack(int id, const std::vector<const Pers
     } else if (before + after <= options_.max_gap) {
       body = interpolateBodies(bodies[next - 1], bodies[next], before / (before + after));
       body.translation = translationBetweenFits(fitted, bodies, next - 1, before / (before + after));
-    } else if (!fitted.empty()) {  // the nearest fit's pose, moved on with the track or the eq. 2 centre
+    } else if (!fitted.empty()) {  // the nearest fit's pose, at the eq. 2 centre or moved on with the track
       const size_t nearest = before <= after ? next - 1 : next;
       body = bodies[nearest];
+      const Eigen::Vector3d fit_pelvis = rest_pelvis + bodies[nearest].translation;
+      const Eigen::Vector3d by_offset = centre_w(*s) + offsets[nearest];
+      Eigen::Vector3d pelvis_w = by_offset;
+      if (!views.empty() && views[nearest].valid) {
+        auto vertices = vertices_of_fit.find(nearest);
+        if (vertices == vertices_of_fit.end()) {
+          vertices = vertices_of_fit.emplace(nearest, verticesAboutPelvis(bodies[nearest], rest_pelvis)).first;
+        }
+        pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], vertices->second, by_offset, image, &pelvis_w);
+      }
+      if (options_.hold_height && up_w.norm() > 0) pelvis_w += (fit_pelvis - pelvis_w).dot(up_w) * up_w;
       const double since = t - fitted[nearest]->timestamp;
       Eigen::Vector3d velocity;
       if ((next == 0 || next == fitted.size()) && std::abs(since) <= options_.max_extrapolation &&
           trackVelocity(fitted, bodies, nearest, next == 0 ? +1 : -1, &velocity)) {
-        body.translation += since * velocity;
-      } else {
-        const Eigen::Vector3d by_offset = centre_w(*s) + offsets[nearest];
-        Eigen::Vector3d pelvis_w = by_offset;
-        if (!views.empty() && views[nearest].valid) {
-          auto vertices = vertices_of_fit.find(nearest);
-          if (vertices == vertices_of_fit.end()) {
-            vertices = vertices_of_fit.emplace(nearest, verticesAboutPelvis(bodies[nearest], rest_pelvis)).first;
-          }
-          pelvisByVisibleCentre(*s, T_w_c(*s), views[nearest], vertices->second, by_offset, image, &pelvis_w);
-        }
-        if (options_.hold_height && up_w.norm() > 0) {
-          const Eigen::Vector3d fit_pelvis = rest_pelvis + bodies[nearest].translation;
-          pelvis_w += (fit_pelvis - pelvis_w).dot(up_w) * up_w;
-        }
-        placePelvis(pelvis_w, rest_pelvis, &body);
+        pelvis_w = extrapolatedTowardsCentre(fit_pelvis + since * velocity, pelvis_w, std::abs(since));
       }
+      placePelvis(pelvis_w, rest_pelvis, &body);
     } else {
       body = standingBody(track.shape);
       body.pose[0] = axisAngle(humanToWorld(T_w_c(*s), centre_w(*s)).linear());

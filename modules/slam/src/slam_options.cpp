@@ -286,6 +286,11 @@ void bodySettings(SlamOptions& o, Settings& s) {
            "between fits the pelvis follows a cubic curve with the velocity over this span beyond each (0 = a line)");
   s.number("bodies.max_extrapolation", &o.body_tracks.max_extrapolation, 0.0, 10.0, "seconds",
            "frames this close before a track's first fit or after its last move on with the track's velocity (0 = off)");
+  s.number("bodies.centre_sigma", &o.body_tracks.centre_sigma, 0.0, 1.0, "metres",
+           "spread of the pelvis the eq. 2 centre gives; frames moved on by bodies.max_extrapolation are drawn "
+           "towards it as the extrapolation grows less certain (0 = the extrapolation alone)");
+  s.number("bodies.extrapolation_acceleration", &o.body_tracks.extrapolation_acceleration, 0.0, 20.0, "m/s^2",
+           "change of pace a person may make after their last fit: the extrapolation's uncertainty is 1/2 a t^2");
   s.number("bodies.smoothing", &o.body_tracks.smoothing_sigma, 0.0, 5.0, "seconds",
            "sigma of the Gaussian smoothing of each person's pelvis over time (0 = none)");
   s.number("bodies.pose_smoothing", &o.body_tracks.pose_smoothing_sigma, 0.0, 5.0, "seconds",

@@ -7,7 +7,8 @@
 //     slerped joint by joint, the pelvis moved along a cubic curve with the track's velocity at
 //     both ends, velocity_span);
 //   - a frame before a track's first fit or after its last, at most max_extrapolation from it:
-//     that fit's body moved on with the track's velocity there;
+//     that fit's body moved on with the track's velocity there, drawn towards where its eq. 2
+//     centre places it (below) as that grows less certain with time (centre_sigma);
 //   - any other frame: the nearest fit's pose at the person's eq. 2 centre, shifted by the offset
 //     between that fit's pelvis and its own frame's centre (the centre lies on the side of the
 //     body the camera sees, and high on a seated person: it is no pelvis by itself); with
@@ -91,6 +92,16 @@ class BodyTrackAssembler {
     // pf2_synth sequences 52.4 -> 50.6 cm with 0.5 s, 50.8 with 0.3, 50.4 with 0.6; six held-out
     // 38.7 -> 37.2 with 0.5 s or 0.3.)
     double max_extrapolation = 0.5;
+    // m: the spread (one standard deviation) of where a frame's eq. 2 centre places the pelvis
+    // (with the nearest fit's offset or view, as for frames far from any fit). A frame placed by
+    // max_extrapolation is drawn towards that place by the share of the two variances: the
+    // extrapolation's grows as 1/2 extrapolation_acceleration t^2 with the time t since the fit, as
+    // the person may change pace (a seated person standing up and walking off right after their
+    // last fit stayed behind by 0.4 m, pf2_synth static seed 11). A centre further off than three
+    // standard deviations of both is not believed (a sliver in view). [0, 1]; 0 = the extrapolation
+    // alone. (135 repeatable runs of seeds 1-45, docs/BENCHMARKS.md "Bodies in the map".)
+    double centre_sigma = 0.1;
+    double extrapolation_acceleration = 2.0;  // m/s^2, [0, 20]: see centre_sigma
     double smoothing_sigma = 0.1;  // s: Gaussian smoothing of the pelvis over time (0 = none), [0, 5]
     // s: Gaussian smoothing of every joint's rotation over time (0 = none), [0, 5]. The fits
     // jitter with MoveNet's keypoints from one to the next, and a body moves smoothly (pf2_slam,
@@ -166,6 +177,9 @@ class BodyTrackAssembler {
                           std::vector<const BodyTrackFit*> fitted,
                           const std::map<int, Eigen::Isometry3d>& keyframe_poses,
                           const CameraIntrinsics& intrinsics, const Eigen::Vector3d& up_w) const;
+  // extrapolated_w (since seconds from its fit) drawn towards by_centre_w (Options::centre_sigma).
+  Eigen::Vector3d extrapolatedTowardsCentre(const Eigen::Vector3d& extrapolated_w, const Eigen::Vector3d& by_centre_w,
+                                            double since) const;
   // The pelvis's velocity at fit `end`, from it to the first fit at least velocity_span beyond it
   // in step's direction (+1 later, -1 earlier); false when there is none within max_gap.
   bool trackVelocity(const std::vector<const BodyTrackFit*>& fitted, const std::vector<BodyParameters>& bodies,
