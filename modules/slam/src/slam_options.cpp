@@ -146,7 +146,17 @@ void trackerSettings(SlamOptions& o, Settings& s) {
   s.number("trajectory.position_noise", &o.trajectory.position_noise, 0.0, 1.0, "metres",
            "scatter of one frame's measured camera position, for the smoothing of trajectory.txt (0 = none)");
   s.number("trajectory.acceleration_noise", &o.trajectory.acceleration_noise, 0.01, 1000.0, "m/s^2",
-           "typical acceleration of the camera per axis (RMS), for the smoothing of trajectory.txt");
+           "typical acceleration of the camera per axis (RMS), for the smoothing of trajectory.txt, where the run "
+           "does not measure its own (trajectory.measure_acceleration false, or a run under three baselines)");
+  s.boolean("trajectory.measure_acceleration", &o.trajectory.measure_acceleration,
+            "the smoothing's acceleration noise measured from the run's own positions (stats.json "
+            "trajectory_acceleration_noise)");
+  s.number("trajectory.acceleration_baseline", &o.trajectory.acceleration_baseline, 0.05, 10.0, "seconds",
+           "time step of the second differences the run's acceleration is measured with");
+  s.number("trajectory.acceleration_scale", &o.trajectory.acceleration_scale, 0.1, 100.0, "factor",
+           "measured acceleration noise = this x the run's RMS acceleration along its busiest axis");
+  s.number("trajectory.acceleration_floor", &o.trajectory.acceleration_floor, 0.001, 1000.0, "m/s^2",
+           "the least measured acceleration noise");
   s.number("trajectory.max_gap", &o.trajectory.max_gap, 0.0, 60.0, "seconds", "frames further apart: smoothed apart");
   s.number("trajectory.fill_gaps", &o.gaps.max_gap, 0.0, 60.0, "seconds",
            "frames without a measured pose (bridged or lost) between two measured frames at most this far apart get "

@@ -200,7 +200,10 @@ class SlamSystem::Pipeline {
       result.trajectory.push_back({record.timestamp, keyframe_poses.at(record.keyframe_id) * record.T_k_c});
       restarts.push_back(record.status == TrackStatus::kRelocalised);
     }
-    result.trajectory = TrajectorySmoother(options_.trajectory).smooth(result.trajectory, restarts);
+    const TrajectorySmoother smoother(options_.trajectory);
+    if (options_.trajectory.position_noise > 0.0 && !result.trajectory.empty())
+      result.summary.acceleration_noise = smoother.accelerationNoise(result.trajectory, restarts);
+    result.trajectory = smoother.smooth(result.trajectory, restarts);
     result.has_humans = track_humans_;
     relabelReidentified();
     if (body_fitter_) {

@@ -38,6 +38,9 @@ struct SlamRunSummary {
   int map_refusions = 0; // fused frames re-fused because the pose graph moved them (map.follow_corrections)
   double seconds = 0;    // wall time of the run, from the first frame read to the last tracked
   double fps = 0;        // frames / seconds (end to end, decoding included)
+  // m/s^2: the acceleration noise trajectory.txt's smoothing used (measured from the run unless
+  // trajectory.measure_acceleration is false; TrajectorySmoother); 0 when nothing was smoothed
+  double acceleration_noise = 0;
   int dropped = 0;       // frames a live stream dropped because the pipeline was still busy
   bool stopped = false;  // the run was ended early (Ctrl-C); its result covers the frames processed
   int body_fits_offered = 0;  // people-frames sent to the body thread (bodies.fit_every apart per person)
