@@ -105,6 +105,8 @@ void printSummary(const std::string& sequence, const pf2::SlamRunSummary& s, con
               s.tracked, s.bridged, s.interpolated, s.relocalised, s.lost);
   std::printf("keyframes   %d (local edges %d, loop closures %d)\n", s.keyframes, s.local_edges, s.loop_closures);
   std::printf("fps         %.1f end to end (%.1f s)\n", s.fps, s.seconds);
+  if (s.acceleration_noise > 0)
+    std::printf("smoothing   trajectory.txt with an acceleration noise of %.2f m/s^2\n", s.acceleration_noise);
   if (s.dropped > 0) std::printf("dropped     %d frames arrived while the pipeline was busy (real time)\n", s.dropped);
   if (s.stopped) std::printf("stopped     early (Ctrl-C): the outputs cover the %d frames processed\n", s.frames);
   for (const std::string& stage : stats.stages()) {
