@@ -6,7 +6,16 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include "pf2/core/error.h"
+
 namespace pf2 {
+
+TrajectorySmoother::TrajectorySmoother(const Options& options) : options_(options) {
+  if (!options_.measure_acceleration) return;
+  if (!(options_.acceleration_baseline > 0.0) || !(options_.acceleration_scale > 0.0) ||
+      !(options_.acceleration_floor > 0.0))
+    throw Error("TrajectorySmoother: acceleration_baseline, acceleration_scale and acceleration_floor must be > 0");
+}
 
 Trajectory TrajectorySmoother::smooth(const Trajectory& measured, const std::vector<bool>& restarts) const {
   Trajectory out = measured;

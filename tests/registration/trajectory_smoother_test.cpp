@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "pf2/core/error.h"
+
 namespace pf2 {
 namespace {
 
@@ -114,6 +116,14 @@ TEST(TrajectorySmoother, MeasuresTheCamerasAccelerationFromTheRun) {
   truth.clear();
   const Trajectory short_run = swingingCamera(0.2, 1.0, &rng, &truth);
   EXPECT_EQ(TrajectorySmoother(defaults).accelerationNoise(short_run), defaults.acceleration_noise);
+}
+
+TEST(TrajectorySmoother, RefusesABaselineThatIsNotPositive) {
+  TrajectorySmoother::Options zero;
+  zero.acceleration_baseline = 0.0;  // would never step through the run
+  EXPECT_THROW(TrajectorySmoother{zero}, Error);
+  zero.measure_acceleration = false;  // not measured: the baseline is not read
+  EXPECT_NO_THROW(TrajectorySmoother{zero});
 }
 
 TEST(TrajectorySmoother, AStillCameraIsSmoothedCloserToTheTruthWithItsMeasuredAcceleration) {

@@ -41,7 +41,9 @@ class TrajectorySmoother {
     double max_gap = 0.5;            // seconds between frames that ends a segment
   };
 
-  explicit TrajectorySmoother(const Options& options) : options_(options) {}
+  // Throws pf2::Error when measure_acceleration is on and acceleration_baseline,
+  // acceleration_scale or acceleration_floor is not > 0.
+  explicit TrajectorySmoother(const Options& options);
 
   // The trajectory (sorted by time) with smoothed positions. restarts: empty, or one flag per
   // pose, true where the pose does not follow from the one before (a new segment starts there).
