@@ -35,6 +35,7 @@ std::vector<std::pair<std::string, std::string>> summaryRows(const ReportContext
       {"Local edges", count(s.local_edges)},
       {"Frames per second (end to end)", fixed(s.fps, 2)},
       {"Run time (s)", fixed(s.seconds, 2)},
+      {"Trajectory smoothing, acceleration noise (m/s²)", s.acceleration_noise > 0 ? fixed(s.acceleration_noise, 2) : "none"},
       {"Body fits offered / skipped", count(s.body_fits_offered) + " / " + count(s.body_fits_skipped)},
       {"People tracks", c.result->has_humans ? count(static_cast<int>(c.result->humans.size())) : "not tracked"},
   };
