@@ -34,7 +34,8 @@ std::string summaryJson(const SlamResult& result, const StageStats& stages) {
       << ",\"interpolated\":" << s.interpolated
       << ",\"keyframes\":" << s.keyframes << ",\"loop_closures\":" << s.loop_closures
       << ",\"local_edges\":" << s.local_edges << ",\"map_refusions\":" << s.map_refusions
-      << ",\"trajectory_acceleration_noise\":" << s.acceleration_noise << ",\"dropped\":" << s.dropped << ",\"stopped\":" << (s.stopped ? "true" : "false")
+      << ",\"trajectory_acceleration_noise\":" << s.acceleration_noise << ",\"dropped\":" << s.dropped
+      << ",\"stopped\":" << (s.stopped ? "true" : "false")
       << ",\"body_fits_offered\":" << s.body_fits_offered << ",\"body_fits_skipped\":" << s.body_fits_skipped
       << ",\"seconds\":" << s.seconds << ",\"fps\":" << s.fps << ",\"detector\":\"" << s.detector
       << "\",\"world_up\":[" << s.up_w.x() << "," << s.up_w.y() << "," << s.up_w.z()
