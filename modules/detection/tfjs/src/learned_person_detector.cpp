@@ -64,7 +64,35 @@ void splitSharedComponent(const cv::Mat& mask, const PersonBox& box, const std::
   }
 }
 
+// Whether the selfie mask covers a pose badly: its box reaches the image border (the selfie
+// network misses the cut person's limbs there) or one of its confident keypoints inside the image
+// lies off the mask.
+bool selfieMaskMisses(const PersonDetection& pose, const cv::Mat& selfie_mask, float min_score) {
+  constexpr float kBorder = 2.f;  // pixels: a box this close to the image's edge touches it
+  if (pose.box.x_ul <= kBorder || pose.box.y_ul <= kBorder || pose.box.x_lr >= selfie_mask.cols - 1 - kBorder ||
+      pose.box.y_lr >= selfie_mask.rows - 1 - kBorder)
+    return true;
+  for (const Keypoint2d& k : pose.keypoints) {
+    const int u = cvRound(k.u), v = cvRound(k.v);
+    if (k.score >= min_score && u >= 0 && v >= 0 && u < selfie_mask.cols && v < selfie_mask.rows &&
+        selfie_mask.at<uint8_t>(v, u) == 0)
+      return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+void addCropMasks(const cv::Mat& crop_masks, float box_margin, std::vector<PersonDetection>* people) {
+  for (PersonDetection& person : *people) {
+    if (person.keypoints.empty()) continue;
+    const cv::Rect r = claimRect(person, box_margin, crop_masks.size());
+    if (r.empty()) continue;
+    if (person.mask.empty()) person.mask = cv::Mat(crop_masks.size(), CV_8U, cv::Scalar(0));
+    cv::Mat claimed = person.mask(r);
+    claimed |= crop_masks(r);
+  }
+}
 
 std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetection>& components,
                                                  const std::vector<PersonDetection>& all_poses,
@@ -144,6 +172,7 @@ LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(
     throw Error("learned detector: segmenter '" + options_.segmenter + "' is not selfie or rvm");
   }
   movenet_ = std::make_unique<MoveNetDetector>(options_.movenet);
+  if (options_.crop_masks) crop_ = std::make_unique<PersonCropSegmenter>(options_.crop);
 }
 
 LearnedPersonDetector::~LearnedPersonDetector() = default;
@@ -179,6 +208,15 @@ void LearnedPersonDetector::carryPoses(const cv::Mat& mask) {
   }
 }
 
+cv::Mat LearnedPersonDetector::cropMasks(const cv::Mat& bgr, const cv::Mat& selfie_mask) {
+  cv::Mat all(bgr.size(), CV_8U, cv::Scalar(0));
+  for (const PersonDetection& pose : poses_) {
+    if (confidentKeypoints(pose, options_.keypoint_min_score) < options_.min_pose_keypoints) continue;
+    if (selfieMaskMisses(pose, selfie_mask, options_.keypoint_min_score)) all |= crop_->segment(bgr, pose.box);
+  }
+  return all;
+}
+
 Detections LearnedPersonDetector::detect(const Frame& frame) {
   const cv::Mat probability = matting_ ? matting_->alpha(frame.rgb) : selfie_->probability(frame.rgb);
   const std::vector<PersonDetection> components = maskComponents(probability, options_.selfie);
@@ -196,6 +234,7 @@ Detections LearnedPersonDetector::detect(const Frame& frame) {
   Detections result;
   result.timestamp = frame.timestamp;
   result.people = combineMasksAndPoses(components, poses_, probability, options_, &result.candidates);
+  if (crop_) addCropMasks(cropMasks(frame.rgb, mask), options_.box_margin, &result.people);
   return result;
 }
 

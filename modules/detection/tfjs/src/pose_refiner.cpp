@@ -17,16 +17,19 @@ float overlap(const PersonBox& a, const PersonBox& b) {
   return inter / (a.width() * a.height() + b.width() * b.height() - inter);
 }
 
-// The crop as an image of its own: pixels beyond the image's border black (as MoveNet sees
-// padding), the crop's top-left corner at (0, 0).
-cv::Mat cropImage(const cv::Mat& bgr, const cv::Rect& crop) {
+}  // namespace
+
+cv::Mat cropWithBlackBorder(const cv::Mat& bgr, const cv::Rect& crop) {
   cv::Mat out(crop.size(), CV_8UC3, cv::Scalar::all(0));
   const cv::Rect inside = crop & cv::Rect(0, 0, bgr.cols, bgr.rows);
   if (!inside.empty()) bgr(inside).copyTo(out(inside - crop.tl()));
   return out;
 }
 
-}  // namespace
+cv::Rect refinementCropPixels(const PersonBox& box, double margin) {
+  const cv::Rect2f area = refinementCrop(box, margin);
+  return {cvRound(area.x), cvRound(area.y), std::max(1, cvRound(area.width)), std::max(1, cvRound(area.height))};
+}
 
 cv::Rect2f refinementCrop(const PersonBox& box, double margin) {
   const float side = static_cast<float>((1.0 + margin) * std::max(box.width(), box.height()));
@@ -49,11 +52,9 @@ PoseRefiner::~PoseRefiner() = default;
 bool PoseRefiner::refine(const cv::Mat& bgr, const PersonBox& box, std::vector<Keypoint2d>* keypoints) {
   if (bgr.empty() || bgr.type() != CV_8UC3) throw Error("pose refiner: expected a non-empty 8-bit BGR image");
   if (box.empty()) return false;
-  const cv::Rect2f area = refinementCrop(box, options_.margin);
-  const cv::Rect crop(cvRound(area.x), cvRound(area.y), std::max(1, cvRound(area.width)),
-                      std::max(1, cvRound(area.height)));
+  const cv::Rect crop = refinementCropPixels(box, options_.margin);
   Frame view;
-  view.rgb = cropImage(bgr, crop);
+  view.rgb = cropWithBlackBorder(bgr, crop);
   const Detections found = movenet_->detect(view);
   const PersonBox expected{box.x_ul - crop.x, box.y_ul - crop.y, box.x_lr - crop.x, box.y_lr - crop.y};
   const PersonDetection* best = nullptr;

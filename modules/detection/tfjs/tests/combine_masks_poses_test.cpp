@@ -132,5 +132,22 @@ TEST(CombineMasksAndPoses, CutsAnImplausiblyLargeComponentToThePersonsBox) {
   EXPECT_EQ(cv::countNonZero(people[0].mask), 180 * kH);
 }
 
+TEST(AddCropMasks, JoinsCropMasksWithinEachPosedPersonsClaim) {
+  // A crop mask over x 0..199; a posed person boxed at x 40..80 with a mask at x 50..60, a posed
+  // person without a mask at x 120..160 and a candidate region without keypoints.
+  const cv::Mat crops(kH, kW, CV_8U, cv::Scalar(255));
+  std::vector<PersonDetection> people{pose(40, 80, 60), pose(120, 160, 140), PersonDetection{}};
+  people[0].mask = cv::Mat(kH, kW, CV_8U, cv::Scalar(0));
+  people[0].mask(cv::Rect(50, 10, 10, 80)).setTo(255);
+  people[2].box = {0, 0, 30, 30};
+  addCropMasks(crops, 0.1f, &people);
+  // The claim: the box enlarged by a tenth of its size (4 px across, 8 px down) on each side.
+  EXPECT_EQ(cv::boundingRect(people[0].mask), cv::Rect(36, 2, 48, 96));
+  ASSERT_FALSE(people[1].mask.empty());
+  EXPECT_EQ(cv::boundingRect(people[1].mask), cv::Rect(116, 2, 48, 96));
+  EXPECT_TRUE(people[2].mask.empty());
+  EXPECT_FLOAT_EQ(people[1].box.x_ul, 120.f);  // boxes stay as they were
+}
+
 }  // namespace
 }  // namespace pf2

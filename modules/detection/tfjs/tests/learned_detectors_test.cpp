@@ -305,6 +305,9 @@ TEST(LearnedDetectors, FactoryKnowsTheLearnedBackendsAndChecksTheirOptions) {
   DetectorOptions bad_rate;
   bad_rate.extra["learned.pose_every"] = "0";
   EXPECT_THROW(createHumanDetector("learned", bad_rate), Error);
+  DetectorOptions not_a_flag;
+  not_a_flag.extra["learned.crop_masks"] = "yes";
+  EXPECT_THROW(createHumanDetector("learned", not_a_flag), Error);
   DetectorOptions bad_segmenter;
   bad_segmenter.extra["learned.segmenter"] = "sam";
   expectErrorNaming([&] { createHumanDetector("learned", bad_segmenter); }, "'sam'");

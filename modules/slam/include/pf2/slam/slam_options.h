@@ -34,6 +34,8 @@ struct SlamOptions {
   // The learned detector's person probability, "selfie" or "rvm"; handed to it as
   // "learned.segmenter" (createSlamDetector).
   std::string learned_segmenter = "selfie";
+  // "learned.crop_masks" (createSlamDetector).
+  bool learned_crop_masks = false;
   DualBBoxFilter::Options filter = defaultFilterOptions();
   // The filter's geometric addition (filter.geometric): depth measured more than
   // geometric_margin metres in front of the static depth predicted from the newest keyframes is

@@ -11,13 +11,15 @@
 // mask under them stay as boxes without a mask. A person's score is the mean mask probability when
 // it has a mask, MoveNet's score otherwise (at least the share of confident keypoints of a pose
 // seen whole). Components no person touches (and not implausibly
-// large) are handed on as Detections::candidates.
+// large) are handed on as Detections::candidates. With crop_masks, the mask of each person the
+// selfie mask covers badly is completed by PersonCropSegmenter on a crop around their pose.
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "pf2/detection/crop_segmenter.h"
 #include "pf2/detection/human_detector.h"
 #include "pf2/detection/movenet_detector.h"
 #include "pf2/detection/selfie_segmenter.h"
@@ -55,6 +57,13 @@ class LearnedPersonDetector : public HumanDetector {
     // people touching it (blur and plain walls make whole-image components).
     double max_component_fraction = 0.6;
     float max_motion = 32.f;            // largest image motion of a person between frames, pixels
+    // Complete people's masks with PersonCropSegmenter, every frame, for each pose that is cut by
+    // the image border or has a confident keypoint off the selfie mask: what the crop marks within
+    // the person's claimed box joins their mask (a pose without mask gets one). About 16 ms per such
+    // person and frame on 2 cores, so off by default (not real time with two or three people);
+    // docs/learned_detection.md, "Crop masks".
+    bool crop_masks = false;
+    PersonCropSegmenter::Options crop;
   };
 
   // Loads both models. Throws pf2::Error naming a missing/unreadable model, an unknown segmenter,
@@ -68,11 +77,15 @@ class LearnedPersonDetector : public HumanDetector {
 
  private:
   void carryPoses(const cv::Mat& mask);
+  // The union of the crop masks of the current poses the selfie mask covers badly (image-sized
+  // CV_8U).
+  cv::Mat cropMasks(const cv::Mat& bgr, const cv::Mat& selfie_mask);
 
   Options options_;
   std::unique_ptr<SelfieSegmenter> selfie_;   // one of these two, by options_.segmenter
   std::unique_ptr<VideoMatting> matting_;
   std::unique_ptr<MoveNetDetector> movenet_;
+  std::unique_ptr<PersonCropSegmenter> crop_;  // only with options_.crop_masks
   std::vector<PersonDetection> poses_;  // latest MoveNet people, moved with the mask since
   cv::Mat previous_mask_;               // selfie mask of the previous frame (CV_8U)
   long frames_ = 0;
@@ -90,5 +103,10 @@ std::vector<PersonDetection> combineMasksAndPoses(const std::vector<PersonDetect
                                                  const cv::Mat& probability,
                                                  const LearnedPersonDetector::Options& options,
                                                  std::vector<PersonDetection>* unclaimed = nullptr);
+
+// Adds crop_masks (image-sized CV_8U) within each posed person's claimed box (the box enlarged by
+// box_margin of its size on each side) to that person's mask, giving a mask to a person without
+// one. People without keypoints are left as they are. Box and score are unchanged. Thread safe.
+void addCropMasks(const cv::Mat& crop_masks, float box_margin, std::vector<PersonDetection>* people);
 
 }  // namespace pf2

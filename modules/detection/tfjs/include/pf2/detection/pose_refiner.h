@@ -41,5 +41,10 @@ class PoseRefiner {
 // The square crop PoseRefiner looks at for a box: centred on it, side (1 + margin) times its longer
 // side, in image pixels (may reach beyond the image). Thread safe.
 cv::Rect2f refinementCrop(const PersonBox& box, double margin);
+// refinementCrop in whole pixels, at least 1 x 1. Thread safe.
+cv::Rect refinementCropPixels(const PersonBox& box, double margin);
+// The crop of a BGR image as an image of its own: pixels beyond the image's border black (as the
+// networks see padding), the crop's top-left corner at (0, 0). Thread safe.
+cv::Mat cropWithBlackBorder(const cv::Mat& bgr, const cv::Rect& crop);
 
 }  // namespace pf2

@@ -1,0 +1,46 @@
+#pragma once
+// "Crop masks": the segmentation head of MediaPipe's BlazePose GHUM Lite (model `blazepose-lite`)
+// run on a square crop around one person, as BlazePose itself runs it on the region its person
+// detector found. The selfie network sees the whole frame once and was made for a person facing
+// the camera: on people cut by the image border, seen whole and small, or in dark clothes it
+// misses limbs and legs (on pf2_synth's hard cases its mask covers 85-90 % of the people's depth).
+// The crop network sees one person at 256x256 and was trained on whole bodies: within a crop it
+// misses less and spills less onto chairs and walls. It costs one network run per person (about
+// 16 ms on this project's 2-core machine against 7-10 ms for the selfie network on the whole
+// frame), so LearnedPersonDetector runs it only for people the selfie mask covers badly.
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "pf2/detection/human_detector.h"
+
+namespace pf2 {
+
+class PersonCropSegmenter {
+ public:
+  struct Options {
+    std::string model_json;    // TF.js model.json; empty = humanModelPath("blazepose-lite")
+    // The square crop's side is (1 + margin) times the person's box's longer side, [0, 2]
+    // (refinementCrop). BlazePose's own crop is 1.25 times the body's extent.
+    double margin = 0.25;
+    float mask_threshold = 0.5f;  // probability above which a crop pixel is the person's, in (0, 1)
+  };
+
+  // Loads the model. Throws pf2::Error naming the file if it is missing or cannot be imported, or
+  // naming the option if one is out of its range.
+  explicit PersonCropSegmenter(const Options& options);
+  ~PersonCropSegmenter();
+
+  // The person's mask (CV_8U, 255 = person) within refinementCropPixels(box, margin), image-sized; all zero for an empty
+  // box or a crop wholly outside the image. Pixels of the crop beyond the image are black to the
+  // network. bgr: 8-bit BGR. NOT thread safe (the network keeps buffers).
+  cv::Mat segment(const cv::Mat& bgr, const PersonBox& box);
+
+ private:
+  struct Impl;
+  Options options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pf2
