@@ -7,7 +7,8 @@
 # filter, pf2_slam's filter settings without and with pf2_detect's stand-in for the prediction
 # (the farthest static depth seen so far, moved with groundtruth.txt).
 # Prints recall (person depth removed), precision and retention (static depth kept). pf2_slam also
-# runs with video matting as the learned detector's mask (detector.segmenter rvm).
+# runs with the learned detector's crop masks (detector.crop_masks), with video matting as its mask
+# (detector.segmenter rvm), and with both.
 #
 # Usage: bench/filters/learned_removal_benchmark.sh [BUILD_DIR] [WORK_DIR] [FRAMES] [SEED]
 set -euo pipefail
@@ -60,7 +61,10 @@ for spec in "${cases[@]}"; do
   [[ "$name" == *misalign3* ]] && misalign=3
   slam_row "$name" "$sequence" "pf2_slam, no geometric" "$misalign" --set filter.geometric=false
   slam_row "$name" "$sequence" "pf2_slam" "$misalign"
+  slam_row "$name" "$sequence" "pf2_slam, crop masks" "$misalign" --set detector.crop_masks=true
   slam_row "$name" "$sequence" "pf2_slam, rvm matte" "$misalign" --set detector.segmenter=rvm
+  slam_row "$name" "$sequence" "pf2_slam, rvm matte + crop masks" "$misalign" --set detector.segmenter=rvm \
+    --set detector.crop_masks=true
   row "$name" "$sequence" "paper's filter" 
   row "$name" "$sequence" "pf2_detect, pf2_slam's settings" "${slam_filter[@]}"
   row "$name" "$sequence" "pf2_detect, + stand-in geometric" "${slam_filter[@]}" --set filter.geometric=true

@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "pf2/detection/crop_segmenter.h"
 #include "pf2/detection/learned_models.h"
 #include "pf2/detection/learned_person_detector.h"
 #include "pf2/detection/movenet_detector.h"
@@ -79,6 +80,19 @@ void BM_Learned(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(learned.detect(frame));
 }
 BENCHMARK(BM_Learned)->Arg(1)->Arg(3)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+
+// One crop mask: BlazePose Lite's segmentation of the crop around the first MoveNet person.
+void BM_CropSegment(benchmark::State& state) {
+  if (!humanModelAvailable("blazepose-lite") || !humanModelAvailable("movenet-multipose"))
+    return state.SkipWithError("no models; run scripts/fetch_models.sh");
+  const Frame frame = benchFrame();
+  MoveNetDetector movenet({});
+  const Detections people = movenet.detect(frame);
+  if (people.people.empty()) return state.SkipWithError("MoveNet found no one on the frame");
+  PersonCropSegmenter segmenter({});
+  for (auto _ : state) benchmark::DoNotOptimize(segmenter.segment(frame.rgb, people.people[0].box));
+}
+BENCHMARK(BM_CropSegment)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pf2
