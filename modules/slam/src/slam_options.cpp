@@ -95,9 +95,9 @@ void detectorSettings(SlamOptions& o, Settings& s) {
            "the learned detector's person mask: selfie (real time) or rvm (video matting: outlines without "
            "chairs, about 8 x the time)");
   s.boolean("detector.crop_masks", &o.learned_crop_masks,
-            "the learned detector completes the masks of people the selfie mask covers badly (cut by the border, "
-            "a keypoint off the mask) with BlazePose's segmentation of a crop around each; about 16 ms per such "
-            "person and frame: not real time");
+            "the learned detector completes the masks of people the selfie mask covers badly (cut by the "
+            "border, a keypoint off the mask) with BlazePose's segmentation of a crop around each; about one "
+            "selfie network's time per such person and frame: not real time");
 }
 
 // The filter's own keys, then pf2_slam's geometric addition: the keyframes' prediction.

@@ -2,12 +2,12 @@
 // "Crop masks": the segmentation head of MediaPipe's BlazePose GHUM Lite (model `blazepose-lite`)
 // run on a square crop around one person, as BlazePose itself runs it on the region its person
 // detector found. The selfie network sees the whole frame once and was made for a person facing
-// the camera: on people cut by the image border, seen whole and small, or in dark clothes it
-// misses limbs and legs (on pf2_synth's hard cases its mask covers 85-90 % of the people's depth).
-// The crop network sees one person at 256x256 and was trained on whole bodies: within a crop it
-// misses less and spills less onto chairs and walls. It costs one network run per person (about
-// 16 ms on this project's 2-core machine against 7-10 ms for the selfie network on the whole
-// frame), so LearnedPersonDetector runs it only for people the selfie mask covers badly.
+// the camera: on people cut by the image border or seen whole and small it misses limbs and legs
+// (on pf2_synth's hard cases its mask covers 85-90 % of the people's depth). The crop network sees
+// one person at 256x256 and was trained on whole bodies; what it marks lies on people (93 % of it
+// in the test on pf2_synth). It costs one network run per person, about what the selfie network
+// costs on the whole frame (BM_CropSegment), so LearnedPersonDetector runs it only for people the
+// selfie mask covers badly.
 #include <memory>
 #include <string>
 
@@ -32,9 +32,10 @@ class PersonCropSegmenter {
   explicit PersonCropSegmenter(const Options& options);
   ~PersonCropSegmenter();
 
-  // The person's mask (CV_8U, 255 = person) within refinementCropPixels(box, margin), image-sized; all zero for an empty
-  // box or a crop wholly outside the image. Pixels of the crop beyond the image are black to the
-  // network. bgr: 8-bit BGR. NOT thread safe (the network keeps buffers).
+  // The person's mask (CV_8U, 255 = person) within refinementCropPixels(box, margin), image-sized;
+  // all zero for an empty box or a crop wholly outside the image. Pixels of the crop beyond the
+  // image are black to the network. bgr: 8-bit BGR; anything else throws pf2::Error. NOT thread
+  // safe (the network keeps buffers).
   cv::Mat segment(const cv::Mat& bgr, const PersonBox& box);
 
  private:

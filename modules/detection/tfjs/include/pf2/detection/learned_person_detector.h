@@ -59,15 +59,16 @@ class LearnedPersonDetector : public HumanDetector {
     float max_motion = 32.f;            // largest image motion of a person between frames, pixels
     // Complete people's masks with PersonCropSegmenter, every frame, for each pose that is cut by
     // the image border or has a confident keypoint off the selfie mask: what the crop marks within
-    // the person's claimed box joins their mask (a pose without mask gets one). About 16 ms per such
-    // person and frame on 2 cores, so off by default (not real time with two or three people);
-    // docs/learned_detection.md, "Crop masks".
+    // the person's claimed box joins their mask (a pose without mask gets one). Each such person
+    // costs about one selfie network's time per frame, so off by default (not real time with two
+    // or three people); docs/learned_detection.md, "Crop masks".
     bool crop_masks = false;
     PersonCropSegmenter::Options crop;
   };
 
-  // Loads both models. Throws pf2::Error naming a missing/unreadable model, an unknown segmenter,
-  // or if pose_every, min_pose_keypoints or whole_pose_keypoints < 1.
+  // Loads both models (and the crop model with crop_masks). Throws pf2::Error naming a
+  // missing/unreadable model, an unknown segmenter, or if pose_every, min_pose_keypoints or
+  // whole_pose_keypoints < 1.
   explicit LearnedPersonDetector(const Options& options);
   ~LearnedPersonDetector() override;
 
