@@ -55,6 +55,7 @@ struct VideoMatting::Impl {
   cv::dnn::Net net;
   std::vector<std::string> output_names;  // kHead, then the states' next values
   std::vector<cv::Mat> states;            // NCHW, zeros after reset()
+  bool fresh = true;                      // no frame seen since reset(): warm the state up
 };
 
 VideoMatting::VideoMatting(const Options& options) : impl_(std::make_unique<Impl>()) {
@@ -65,6 +66,8 @@ VideoMatting::VideoMatting(const Options& options) : impl_(std::make_unique<Impl
   if (w < 32 || h < 32 || w > 1920 || h > 1920 || w % 16 || h % 16)
     throw Error("VideoMatting: input " + std::to_string(w) + "x" + std::to_string(h) +
                 " must be multiples of 16 in [32, 1920]");
+  if (m.options.warmup_passes < 0 || m.options.warmup_passes > 10)
+    throw Error("VideoMatting: warmup_passes " + std::to_string(m.options.warmup_passes) + " must be in [0, 10]");
   const TfjsGraph graph(m.options.model_json);
   TfjsGraph::Options cut;
   cut.new_inputs[kSource] = {1, h, w, 3};
@@ -86,6 +89,7 @@ void VideoMatting::reset() {
     const int shape[] = {1, s.channels, m.options.input_height / s.stride, m.options.input_width / s.stride};
     m.states.emplace_back(4, shape, CV_32F, cv::Scalar(0));
   }
+  m.fresh = true;
 }
 
 cv::Mat VideoMatting::alpha(const cv::Mat& bgr) {
@@ -93,11 +97,16 @@ cv::Mat VideoMatting::alpha(const cv::Mat& bgr) {
   Impl& m = *impl_;
   cv::Mat small;
   cv::resize(bgr, small, cv::Size(m.options.input_width, m.options.input_height), 0, 0, cv::INTER_AREA);
-  m.net.setInput(cv::dnn::blobFromImage(small, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false), kSource);
-  for (size_t i = 0; i < kStates.size(); ++i) m.net.setInput(m.states[i], kStates[i].input);
+  const cv::Mat blob = cv::dnn::blobFromImage(small, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false);
+  const int passes = m.fresh ? 1 + m.options.warmup_passes : 1;
+  m.fresh = false;
   std::vector<cv::Mat> outputs;
-  m.net.forward(outputs, m.output_names);
-  for (size_t i = 0; i < kStates.size(); ++i) m.states[i] = outputs[i + 1].clone();
+  for (int pass = 0; pass < passes; ++pass) {
+    m.net.setInput(blob, kSource);
+    for (size_t i = 0; i < kStates.size(); ++i) m.net.setInput(m.states[i], kStates[i].input);
+    m.net.forward(outputs, m.output_names);
+    for (size_t i = 0; i < kStates.size(); ++i) m.states[i] = outputs[i + 1].clone();
+  }
   // Channel 3 of the head is alpha.
   const cv::Mat head_alpha(m.options.input_height, m.options.input_width, CV_32F, outputs[0].ptr<float>(0, 3));
   cv::Mat clamped, full;

@@ -19,6 +19,7 @@
 #include "pf2/detection/selfie_segmenter.h"
 #include "pf2/detection/video_matting.h"
 #include "pf2/io/tum_sequence.h"
+#include "pf2/synth/synthetic_sequence.h"
 
 namespace pf2 {
 namespace {
@@ -159,6 +160,40 @@ TEST(LearnedDetectors, VideoMattingRefusesBadOptionsAndImages) {
   VideoMatting matting(VideoMatting::Options{});
   EXPECT_THROW(matting.alpha(cv::Mat()), Error);
   EXPECT_THROW(matting.alpha(cv::Mat(48, 64, CV_8UC1, cv::Scalar(0))), Error);
+}
+
+// The first frame after construction or reset() is matted as if the network had seen it
+// 1 + warmup_passes times: the same matte as a cold network's after that many calls, which on
+// pf2_synth's first frame finds the people a cold network's first matte misses.
+TEST(LearnedDetectors, VideoMattingWarmsItsStateUpOnTheFirstFrame) {
+  VideoMatting::Options too_many;
+  too_many.warmup_passes = 11;
+  expectErrorNaming([&] { VideoMatting m(too_many); }, "warmup_passes");
+  if (!humanModelAvailable("rvm")) GTEST_SKIP() << "no model; run scripts/fetch_models.sh";
+  SyntheticSequence::Options synth;
+  synth.frames = 1;
+  FrameGroundTruth truth;
+  const Frame frame = SyntheticSequence(synth).frame(0, &truth);
+  const cv::Mat people = truth.labels > 0;
+  VideoMatting::Options cold_options;
+  cold_options.warmup_passes = 0;
+  VideoMatting cold(cold_options), warm(VideoMatting::Options{});
+  const int passes = 1 + VideoMatting::Options{}.warmup_passes;
+  const cv::Mat first_cold = cold.alpha(frame.rgb);
+  cv::Mat settled_cold = first_cold;
+  for (int i = 1; i < passes; ++i) settled_cold = cold.alpha(frame.rgb);
+  const cv::Mat first_warm = warm.alpha(frame.rgb);
+  EXPECT_LT(cv::norm(first_warm, settled_cold, cv::NORM_INF), 1e-5);
+  const double area = cv::countNonZero(people);
+  const double cold_share = cv::countNonZero((first_cold > 0.5) & people) / area;
+  const double warm_share = cv::countNonZero((first_warm > 0.5) & people) / area;
+  std::printf("first frame's people matted: cold %.3f, warmed up %.3f\n", cold_share, warm_share);
+  EXPECT_GT(warm_share, cold_share + 0.03);  // measured 0.744 -> 0.808
+  EXPECT_GT(warm_share, 0.75);
+  // Later frames take one pass each; a reset arms the warm-up again.
+  EXPECT_LT(cv::norm(warm.alpha(frame.rgb), cold.alpha(frame.rgb), cv::NORM_INF), 1e-5);
+  warm.reset();
+  EXPECT_LT(cv::norm(warm.alpha(frame.rgb), first_warm, cv::NORM_INF), 1e-5);
 }
 
 TEST(LearnedDetectors, NoPeopleOnTheDeskSequence) {

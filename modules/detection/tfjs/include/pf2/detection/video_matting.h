@@ -27,6 +27,11 @@ class VideoMatting {
     std::string model_json;  // empty: humanModelPath("rvm")
     int input_width = 320;   // network input in pixels, a multiple of 16 (the encoder's stride)
     int input_height = 240;
+    // Extra passes over the first frame after construction or reset(), [0, 10]. The recurrent
+    // state starts at zero, and from zero the first matte misses people the network finds once its
+    // state has seen them: on pf2_synth's first frames it found none of the people of static (seed
+    // 1) and halfsphere at first, a few frames later all of them. Each pass costs one frame's time.
+    int warmup_passes = 3;
   };
 
   // Loads the model. Throws pf2::Error naming the file (missing, malformed, not importable) or the
@@ -35,7 +40,8 @@ class VideoMatting {
   ~VideoMatting();
 
   // The alpha matte of a BGR frame (CV_8UC3), CV_32F in [0, 1] at the frame's size (bilinear from
-  // the network's size). Feeds the recurrent state forward: call it on consecutive frames. Throws
+  // the network's size). Feeds the recurrent state forward: call it on consecutive frames (the
+  // first one after construction or reset() takes 1 + Options::warmup_passes passes). Throws
   // pf2::Error on an empty or non-BGR image. NOT thread safe.
   cv::Mat alpha(const cv::Mat& bgr);
   // Forgets the frames before (a cut in the video). NOT thread safe.
