@@ -96,8 +96,8 @@ void detectorSettings(SlamOptions& o, Settings& s) {
            "chairs, about 8 x the time)");
   s.boolean("detector.crop_masks", &o.learned_crop_masks,
             "the learned detector completes the masks of people the selfie mask covers badly (cut by the "
-            "border, a keypoint off the mask) with BlazePose's segmentation of a crop around each; about one "
-            "selfie network's time per such person and frame: not real time");
+            "border, a keypoint off the mask) and of candidates cut by the border with BlazePose's segmentation "
+            "of a crop around each; about one selfie network's time per such person and frame: not real time");
 }
 
 // The filter's own keys, then pf2_slam's geometric addition: the keyframes' prediction.

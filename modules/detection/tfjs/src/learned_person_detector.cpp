@@ -67,11 +67,15 @@ void splitSharedComponent(const cv::Mat& mask, const PersonBox& box, const std::
 // Whether the selfie mask covers a pose badly: its box reaches the image border (the selfie
 // network misses the cut person's limbs there) or one of its confident keypoints inside the image
 // lies off the mask.
+// Whether a box lies within 2 pixels of the edge of an image of `size`.
+bool touchesBorder(const PersonBox& box, const cv::Size& size) {
+  constexpr float kBorder = 2.f;
+  return box.x_ul <= kBorder || box.y_ul <= kBorder || box.x_lr >= size.width - 1 - kBorder ||
+         box.y_lr >= size.height - 1 - kBorder;
+}
+
 bool selfieMaskMisses(const PersonDetection& pose, const cv::Mat& selfie_mask, float min_score) {
-  constexpr float kBorder = 2.f;  // pixels: a box this close to the image's edge touches it
-  if (pose.box.x_ul <= kBorder || pose.box.y_ul <= kBorder || pose.box.x_lr >= selfie_mask.cols - 1 - kBorder ||
-      pose.box.y_lr >= selfie_mask.rows - 1 - kBorder)
-    return true;
+  if (touchesBorder(pose.box, selfie_mask.size())) return true;
   for (const Keypoint2d& k : pose.keypoints) {
     const int u = cvRound(k.u), v = cvRound(k.v);
     if (k.score >= min_score && u >= 0 && v >= 0 && u < selfie_mask.cols && v < selfie_mask.rows &&
@@ -164,6 +168,7 @@ LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(
   if (options_.pose_every < 1) throw Error("learned detector: pose_every must be at least 1");
   if (options_.min_pose_keypoints < 1) throw Error("learned detector: min_pose_keypoints must be at least 1");
   if (options_.whole_pose_keypoints < 1) throw Error("learned detector: whole_pose_keypoints must be at least 1");
+  if (options_.crop_candidate_min_area < 0) throw Error("learned detector: crop_candidate_min_area must be at least 0");
   if (options_.segmenter == "selfie") {
     selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
   } else if (options_.segmenter == "rvm") {
@@ -217,6 +222,17 @@ cv::Mat LearnedPersonDetector::cropMasks(const cv::Mat& bgr, const cv::Mat& self
   return all;
 }
 
+void LearnedPersonDetector::cropCandidates(const cv::Mat& bgr, std::vector<PersonDetection>* candidates) {
+  for (PersonDetection& candidate : *candidates) {
+    if (candidate.mask.empty()) continue;
+    const cv::Rect r = cv::boundingRect(candidate.mask);
+    const PersonBox box{static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(r.br().x),
+                        static_cast<float>(r.br().y)};
+    if (r.area() < options_.crop_candidate_min_area || !touchesBorder(box, bgr.size())) continue;
+    candidate.mask |= crop_->segment(bgr, box);
+  }
+}
+
 Detections LearnedPersonDetector::detect(const Frame& frame) {
   const cv::Mat probability = matting_ ? matting_->alpha(frame.rgb) : selfie_->probability(frame.rgb);
   const std::vector<PersonDetection> components = maskComponents(probability, options_.selfie);
@@ -234,7 +250,10 @@ Detections LearnedPersonDetector::detect(const Frame& frame) {
   Detections result;
   result.timestamp = frame.timestamp;
   result.people = combineMasksAndPoses(components, poses_, probability, options_, &result.candidates);
-  if (crop_) addCropMasks(cropMasks(frame.rgb, mask), options_.box_margin, &result.people);
+  if (crop_) {
+    addCropMasks(cropMasks(frame.rgb, mask), options_.box_margin, &result.people);
+    cropCandidates(frame.rgb, &result.candidates);
+  }
   return result;
 }
 

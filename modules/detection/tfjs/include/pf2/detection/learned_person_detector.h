@@ -59,16 +59,20 @@ class LearnedPersonDetector : public HumanDetector {
     float max_motion = 32.f;            // largest image motion of a person between frames, pixels
     // Complete people's masks with PersonCropSegmenter, every frame, for each pose that is cut by
     // the image border or has a confident keypoint off the selfie mask: what the crop marks within
-    // the person's claimed box joins their mask (a pose without mask gets one). Each such person
-    // costs about one selfie network's time per frame, so off by default (not real time with two
-    // or three people); docs/learned_detection.md, "Crop masks".
+    // the person's claimed box joins their mask (a pose without mask gets one). Also for each
+    // candidate cut by the border whose bounding box holds at least crop_candidate_min_area
+    // pixels (MoveNet finds few of the people the border cuts): the crop around that box joins the
+    // candidate's mask, which stays a candidate. Each crop costs about one selfie network's time,
+    // so off by default (not real time with two or three people); docs/learned_detection.md, "Crop
+    // masks".
     bool crop_masks = false;
     PersonCropSegmenter::Options crop;
+    int crop_candidate_min_area = 4000;  // pixels, >= 0: smaller candidates get no crop
   };
 
   // Loads both models (and the crop model with crop_masks). Throws pf2::Error naming a
   // missing/unreadable model, an unknown segmenter, or if pose_every, min_pose_keypoints or
-  // whole_pose_keypoints < 1.
+  // whole_pose_keypoints < 1 or crop_candidate_min_area < 0.
   explicit LearnedPersonDetector(const Options& options);
   ~LearnedPersonDetector() override;
 
@@ -81,6 +85,8 @@ class LearnedPersonDetector : public HumanDetector {
   // The union of the crop masks of the current poses the selfie mask covers badly (image-sized
   // CV_8U).
   cv::Mat cropMasks(const cv::Mat& bgr, const cv::Mat& selfie_mask);
+  // Adds its crop mask to each candidate cut by the image border and large enough.
+  void cropCandidates(const cv::Mat& bgr, std::vector<PersonDetection>* candidates);
 
   Options options_;
   std::unique_ptr<SelfieSegmenter> selfie_;   // one of these two, by options_.segmenter
