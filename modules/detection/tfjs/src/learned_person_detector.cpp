@@ -64,9 +64,6 @@ void splitSharedComponent(const cv::Mat& mask, const PersonBox& box, const std::
   }
 }
 
-// Whether the selfie mask covers a pose badly: its box reaches the image border (the selfie
-// network misses the cut person's limbs there) or one of its confident keypoints inside the image
-// lies off the mask.
 // Whether a box lies within 2 pixels of the edge of an image of `size`.
 bool touchesBorder(const PersonBox& box, const cv::Size& size) {
   constexpr float kBorder = 2.f;
@@ -74,6 +71,9 @@ bool touchesBorder(const PersonBox& box, const cv::Size& size) {
          box.y_lr >= size.height - 1 - kBorder;
 }
 
+// Whether the selfie mask covers a pose badly: its box reaches the image border (the selfie
+// network misses the cut person's limbs there) or one of its confident keypoints inside the image
+// lies off the mask.
 bool selfieMaskMisses(const PersonDetection& pose, const cv::Mat& selfie_mask, float min_score) {
   if (touchesBorder(pose.box, selfie_mask.size())) return true;
   for (const Keypoint2d& k : pose.keypoints) {
@@ -223,12 +223,11 @@ cv::Mat LearnedPersonDetector::cropMasks(const cv::Mat& bgr, const cv::Mat& self
 }
 
 void LearnedPersonDetector::cropCandidates(const cv::Mat& bgr, std::vector<PersonDetection>* candidates) {
-  for (PersonDetection& candidate : *candidates) {
-    if (candidate.mask.empty()) continue;
-    const cv::Rect r = cv::boundingRect(candidate.mask);
-    const PersonBox box{static_cast<float>(r.x), static_cast<float>(r.y), static_cast<float>(r.br().x),
-                        static_cast<float>(r.br().y)};
-    if (r.area() < options_.crop_candidate_min_area || !touchesBorder(box, bgr.size())) continue;
+  for (PersonDetection& candidate : *candidates) {  // a candidate's box bounds its mask component
+    const PersonBox& box = candidate.box;
+    if (candidate.mask.empty() || box.width() * box.height() < options_.crop_candidate_min_area ||
+        !touchesBorder(box, bgr.size()))
+      continue;
     candidate.mask |= crop_->segment(bgr, box);
   }
 }
