@@ -29,8 +29,10 @@ class VideoMatting {
     int input_height = 240;
     // Extra passes over the first frame after construction or reset(), [0, 10]. The recurrent
     // state starts at zero, and from zero the first matte misses people the network finds once its
-    // state has seen them: on pf2_synth's first frames it found none of the people of static (seed
-    // 1) and halfsphere at first, a few frames later all of them. Each pass costs one frame's time.
+    // state has seen them: with the cold matte pf2_slam removed none of the people in frame 0 of
+    // pf2_synth static and halfsphere (seed 1), a few frames later almost all; on the first frame
+    // of the test's sequence the matte covers 74 % of the people cold and 81 % warmed up. Each
+    // pass costs one frame's time.
     int warmup_passes = 3;
   };
 
