@@ -98,6 +98,11 @@ void detectorSettings(SlamOptions& o, Settings& s) {
             "the learned detector completes the masks of people the selfie mask covers badly (cut by the "
             "border, a keypoint off the mask) and of candidates cut by the border with BlazePose's segmentation "
             "of a crop around each; about one selfie network's time per such person and frame: not real time");
+  s.integer("detector.crop_size", &o.learned_crop_size, 192, 256, "pixels",
+            "side of the crop network's input (detector.crop_masks): 192, 224 or 256; 192 takes 0.6 of "
+            "256's time");
+  s.require([&o] { return o.learned_crop_size % 32 == 0; }, "detector.crop_size is a multiple of 32",
+            [&o] { return "detector.crop_size: expected 192, 224 or 256, got " + std::to_string(o.learned_crop_size); });
 }
 
 // The filter's own keys, then pf2_slam's geometric addition: the keyframes' prediction.

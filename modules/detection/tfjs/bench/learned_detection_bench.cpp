@@ -81,7 +81,8 @@ void BM_Learned(benchmark::State& state) {
 }
 BENCHMARK(BM_Learned)->Arg(1)->Arg(3)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
-// One crop mask: BlazePose Lite's segmentation of the crop around the first MoveNet person.
+// One crop mask: BlazePose Lite's segmentation of the crop around the first MoveNet person, the
+// network's input side as the argument.
 void BM_CropSegment(benchmark::State& state) {
   if (!humanModelAvailable("blazepose-lite") || !humanModelAvailable("movenet-multipose"))
     return state.SkipWithError("no models; run scripts/fetch_models.sh");
@@ -89,10 +90,12 @@ void BM_CropSegment(benchmark::State& state) {
   MoveNetDetector movenet({});
   const Detections people = movenet.detect(frame);
   if (people.people.empty()) return state.SkipWithError("MoveNet found no one on the frame");
-  PersonCropSegmenter segmenter({});
+  PersonCropSegmenter::Options options;
+  options.input_size = static_cast<int>(state.range(0));
+  PersonCropSegmenter segmenter(options);
   for (auto _ : state) benchmark::DoNotOptimize(segmenter.segment(frame.rgb, people.people[0].box));
 }
-BENCHMARK(BM_CropSegment)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CropSegment)->Arg(256)->Arg(224)->Arg(192)->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pf2

@@ -10,7 +10,7 @@
 
 namespace pf2 {
 namespace {
-constexpr int kInputSize = 256;  // the model's fixed input, square: its upsamplings have fixed sizes
+constexpr int kExportedSize = 256;  // the input side the model was exported for (its upsamplings' sizes)
 // The segmentation head's output (after its sigmoid); cutting the graph there drops the landmark
 // and pose-presence heads, which are not used.
 constexpr const char* kSegmentationNode = "StatefulPartitionedCall/model/activation_segmentation/Sigmoid";
@@ -26,10 +26,13 @@ PersonCropSegmenter::PersonCropSegmenter(const Options& options)
   if (!(options_.margin >= 0.0 && options_.margin <= 2.0)) throw Error("crop segmenter: margin must be in [0, 2]");
   if (!(options_.mask_threshold > 0.f && options_.mask_threshold < 1.f))
     throw Error("crop segmenter: mask_threshold must be in (0, 1)");
+  if (options_.input_size != 192 && options_.input_size != 224 && options_.input_size != 256)
+    throw Error("crop segmenter: input_size must be 192, 224 or 256");
   if (options_.model_json.empty()) options_.model_json = humanModelPath("blazepose-lite");
   const TfjsGraph graph(options_.model_json);
   TfjsGraph::Options cut;
   cut.outputs = {kSegmentationNode};
+  cut.resize_scale = static_cast<double>(options_.input_size) / kExportedSize;
   impl_->net = graph.loadNet(cut);
   impl_->output_layer = graph.layerName(kSegmentationNode);
 }
@@ -44,12 +47,13 @@ cv::Mat PersonCropSegmenter::segment(const cv::Mat& bgr, const PersonBox& box) {
   const cv::Rect inside = crop & cv::Rect(0, 0, bgr.cols, bgr.rows);
   if (inside.empty()) return mask;
   // The model takes RGB in [0, 1].
+  const int side = options_.input_size;
   impl_->net.setInput(cv::dnn::blobFromImage(cropWithBlackBorder(bgr, crop), 1.0 / 255.0,
-                                             cv::Size(kInputSize, kInputSize), cv::Scalar(), true, false));
+                                             cv::Size(side, side), cv::Scalar(), true, false));
   const cv::Mat out = impl_->net.forward(impl_->output_layer);
-  if (out.total() != static_cast<size_t>(kInputSize * kInputSize))
+  if (out.total() != static_cast<size_t>(side * side))
     throw Error("crop segmenter: unexpected network output size");
-  const cv::Mat small(kInputSize, kInputSize, CV_32F, const_cast<float*>(out.ptr<float>()));
+  const cv::Mat small(side, side, CV_32F, const_cast<float*>(out.ptr<float>()));
   cv::Mat probability;
   cv::resize(small, probability, crop.size(), 0, 0, cv::INTER_LINEAR);
   mask(inside).setTo(255, probability(inside - crop.tl()) > options_.mask_threshold);

@@ -17,7 +17,8 @@ class ExtraReader {
     static const std::set<std::string> kKnown = {
         "selfie.model",    "selfie.threshold", "selfie.min_area",   "selfie.square_crops", "selfie.min_score", "movenet.model",
         "movenet.width",   "movenet.height",   "movenet.min_score", "learned.pose_every",
-        "learned.min_keypoints", "learned.max_component", "learned.segmenter", "learned.crop_masks"};
+        "learned.min_keypoints", "learned.max_component", "learned.segmenter", "learned.crop_masks",
+        "learned.crop_size"};
     for (const auto& entry : extra_) {
       const std::string family = entry.first.substr(0, entry.first.find('.') + 1);
       if ((family == "selfie." || family == "movenet." || family == "learned.") && !kKnown.count(entry.first))
@@ -95,6 +96,7 @@ std::unique_ptr<HumanDetector> createLearnedDetector(const DetectorExtraOptions&
   r.number("learned.max_component", &o.max_component_fraction);
   r.text("learned.segmenter", &o.segmenter);
   r.number("learned.crop_masks", &o.crop_masks);
+  r.number("learned.crop_size", &o.crop.input_size);
   return std::make_unique<LearnedPersonDetector>(o);
 }
 

@@ -298,6 +298,9 @@ struct TfjsGraph::Impl {
   // to whichever input is not constant), so it becomes AddV2(Mul(x, -1), c) (nodes appended to
   // out). A ConvGRU's 1 - z is written so.
   void constantFirstSubtractions(std::vector<Node>* out) const;
+  // The constant sizes of the resizes times factor (Options::resize_scale), rounded; a size
+  // constant two resizes share is scaled once.
+  void scaledResizes(double factor, std::vector<Node>* out) const;
   // The nodes to emit: a copy with the bypassed nodes skipped, the dilated convolutions'
   // paddings made constant, constant-first subtractions turned round and the fused layers
   // rewritten (channel_scales: Mul node -> the index of its per-channel input).
@@ -374,6 +377,24 @@ void TfjsGraph::Impl::constantDilationPaddings(std::vector<Node>* out) const {
   out->insert(out->end(), zeros.begin(), zeros.end());
 }
 
+void TfjsGraph::Impl::scaledResizes(double factor, std::vector<Node>* out) const {
+  if (!(factor > 0.0 && factor <= 4.0)) throw fileError(path, "resize_scale must be in (0, 4]");
+  for (const Node& n : *out) {
+    if ((n.op != "ResizeBilinear" && n.op != "ResizeNearestNeighbor") || n.inputs.size() != 2) continue;
+    const auto size_index = index.find(producerOf(n.inputs[1]));
+    if (size_index == index.end()) continue;
+    Node& size = (*out)[size_index->second];
+    const auto w = weights.find(size.name);
+    if (size.op != "Const" || size.value || w == weights.end() || w->second.dtype != kInt32 ||
+        w->second.data.size() != 8)
+      continue;
+    int32_t hw[2];
+    std::memcpy(hw, w->second.data.data(), 8);
+    for (int32_t& v : hw) v = std::max<int32_t>(1, static_cast<int32_t>(std::lround(v * factor)));
+    size.value = Tensor{kInt32, w->second.shape, std::string(reinterpret_cast<const char*>(hw), 8)};
+  }
+}
+
 void TfjsGraph::Impl::constantFirstSubtractions(std::vector<Node>* out) const {
   std::vector<Node> added;
   for (Node& n : *out) {
@@ -398,6 +419,7 @@ std::vector<Node> TfjsGraph::Impl::rewritten(const Options& options,
   bypassNodes(options.bypass, &out);
   constantDilationPaddings(&out);
   constantFirstSubtractions(&out);
+  if (options.resize_scale != 1.0) scaledResizes(options.resize_scale, &out);
   if (!options.fuse_layers) return out;
   for (Node& n : out) {
     const auto scale = channel_scales.find(n.name);

@@ -298,6 +298,43 @@ TEST(TfjsGraph, ConstantMinusTensorKeepsItsSign) {
   for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], 1.f - y[i], 1e-4f) << "element " << i;
 }
 
+// An upsampling exported with a fixed size (twice the tiny graph's output) run at half that
+// size, as a fully convolutional model is run at a smaller input: the resize's constant size
+// scales with resize_scale, so here it resizes to the size it has, which changes nothing.
+TEST(TfjsGraph, ResizeScaleScalesConstantResizeSizes) {
+  const std::string t = "\"T\":{\"type\":\"DT_FLOAT\"}";
+  const int32_t size[2] = {2 * kH, 2 * kW};
+  const TinyModel m = writeTinyModel(
+      "pf2_tfjs_resize",
+      "," + constJson("up/size", "DT_INT32") + "," +
+          nodeJson("up", "ResizeBilinear", "\"dw/Relu\",\"up/size\"",
+                   t + ",\"align_corners\":{\"b\":false},\"half_pixel_centers\":{\"b\":true}"),
+      ",{\"name\":\"up/size\",\"shape\":[2],\"dtype\":\"int32\"}",
+      std::string(reinterpret_cast<const char*>(size), sizeof(size)));
+  const TfjsGraph graph(m.json_path);
+  TfjsGraph::Options options;
+  options.outputs = {"up"};
+  const std::vector<float> x = makeInput();
+  {
+    cv::dnn::Net as_exported = graph.loadNet(options);
+    const int in_shape[] = {1, kCin, kH, kW};
+    as_exported.setInput(cv::Mat(4, in_shape, CV_32F, cv::Scalar(0.5)));
+    const cv::Mat out = as_exported.forward("up");
+    ASSERT_EQ(out.dims, 4);
+    EXPECT_EQ(out.size[2], 2 * kH);
+    EXPECT_EQ(out.size[3], 2 * kW);
+  }
+  options.resize_scale = 0.5;
+  cv::dnn::Net half = graph.loadNet(options);
+  float max_pre_relu6 = 0;
+  const std::vector<float> expected = directForward(m, x, &max_pre_relu6);
+  const std::vector<float> got = runNet(half, x, "up");
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], expected[i], 1e-4f) << "element " << i;
+
+  options.resize_scale = 0.0;
+  EXPECT_THROW(graph.loadNet(options), Error);
+}
+
 // MobileNetV3's blocks as TF.js writes them behind the tiny graph: a hard-swish chain
 // Mul(Mul(1/6, x), Relu6(x + 3)), a squeeze-and-excitation product (x times the sigmoid of its
 // channel means), and a look-alike chain with + 2 that is not a hard-swish.

@@ -36,6 +36,8 @@ struct SlamOptions {
   std::string learned_segmenter = "selfie";
   // "learned.crop_masks" (createSlamDetector).
   bool learned_crop_masks = false;
+  // "learned.crop_size": the crop network's input side in pixels (createSlamDetector).
+  int learned_crop_size = 256;
   DualBBoxFilter::Options filter = defaultFilterOptions();
   // The filter's geometric addition (filter.geometric): depth measured more than
   // geometric_margin metres in front of the static depth predicted from the newest keyframes is

@@ -36,6 +36,11 @@ class TfjsGraph {
     // their readers read that input instead, and what only they used (the shape arithmetic
     // OpenCV cannot import) falls away.
     std::vector<std::string> bypass;
+    // Factor on the output size of every ResizeBilinear / ResizeNearestNeighbor whose size is a
+    // constant, in (0, 4]: a fully convolutional model whose upsamplings were exported with fixed
+    // sizes then runs at this factor times its input size (its input fed at that size). 1 = as
+    // exported.
+    double resize_scale = 1.0;
   };
 
   // Reads model.json and the weight shards it names (paths relative to model.json). Throws
