@@ -5,6 +5,7 @@
 
 #include "pf2/core/config_file.h"
 #include "pf2/core/settings.h"
+#include "pf2/detection/crop_segmenter.h"
 #include "pf2/detection/detector_factory.h"
 #include "pf2/detection/pose_refiner.h"
 #include "pf2/filters/dual_bbox_filter.h"
@@ -37,7 +38,7 @@ struct SlamOptions {
   // "learned.crop_masks" (createSlamDetector).
   bool learned_crop_masks = false;
   // "learned.crop_size": the crop network's input side in pixels (createSlamDetector).
-  int learned_crop_size = 256;
+  int learned_crop_size = PersonCropSegmenter::Options{}.input_size;
   DualBBoxFilter::Options filter = defaultFilterOptions();
   // The filter's geometric addition (filter.geometric): depth measured more than
   // geometric_margin metres in front of the static depth predicted from the newest keyframes is

@@ -25,11 +25,12 @@ class PersonCropSegmenter {
     // (refinementCrop). BlazePose's own crop is 1.25 times the body's extent.
     double margin = 0.25;
     float mask_threshold = 0.5f;  // probability above which a crop pixel is the person's, in (0, 1)
-    // The network's input side in pixels: 192, 224 or 256 (the model's own; a multiple of 32, as
-    // its five stride-2 stages and fixed-size upsamplings need). 192 takes 0.6 of 256's time
-    // (BM_CropSegment) and marks as much of the person in CropSegmenter's tests; at 160 the
-    // network marks a third of the person, at 128 nothing.
-    int input_size = 256;
+    // The network's input side in pixels: 192, 224 or 256 (256 is the model's own; a multiple of
+    // 32, as its five stride-2 stages and fixed-size upsamplings need). 192 takes 0.6 of 256's
+    // time (BM_CropSegment), marks as much of the person in CropSegmenter's tests and removes as
+    // much in pf2_slam (docs/BENCHMARKS.md, "Crop masks"); at 160 the network marks a third of
+    // the person, at 128 nothing.
+    int input_size = 192;
   };
 
   // Loads the model. Throws pf2::Error naming the file if it is missing or cannot be imported, or
