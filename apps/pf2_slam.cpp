@@ -54,6 +54,7 @@ const char* kUsage =
     "  --config FILE        'key value' settings, one per line (docs/config.md lists the keys)\n"
     "  --set KEY=VALUE      one setting, after --config (repeatable); e.g. --set map.voxel_size=0.02\n"
     "  --settings           print every setting (key, default, unit, allowed values, meaning) and exit\n"
+    "  --preset NAME        a named set of settings (listed at the end), before --config and --set\n"
     "Each option below is a setting applied after --set: --frames N is --set run.max_frames=N.\n"
     "  --frames N           process only the first N frames\n"
     "  --no-map             track only; no TSDF/OctoMap\n"
@@ -79,6 +80,17 @@ const char* kUsage =
     "  --synth-frames N     frames (default 300)   --synth-people K  people 0..5 (default 3)\n"
     "  --synth-camera M     static|xyz|halfsphere|rpy|loop (default xyz)   --seed S (default 1)\n"
     "  -h, --help           this text\n";
+
+// kUsage and the presets, each with its meaning and settings (declared once, in slamPresets()).
+std::string usage() {
+  std::string text = std::string(kUsage) + "Presets (--preset NAME):\n";
+  for (const pf2::SlamPreset& preset : pf2::slamPresets()) {
+    text += "  " + preset.name + ": " + preset.meaning + "\n   ";
+    for (const std::string& assignment : preset.assignments) text += " --set " + assignment;
+    text += "\n";
+  }
+  return text;
+}
 
 bool samePinhole(const pf2::CameraIntrinsics& a, const pf2::CameraIntrinsics& b) {
   return a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy;
@@ -256,7 +268,8 @@ int run(int argc, char** argv) {
   pf2::CommandLine cli(argc, argv);
   AppSettings app;
   pf2::Settings settings = declareAppSettings(&app);
-  if (pf2::answeredHelpOrSettings(&cli, kUsage, settings)) return 0;
+  if (pf2::answeredHelpOrSettings(&cli, usage(), settings)) return 0;
+  if (const auto preset = cli.value("--preset")) pf2::applySlamPreset(*preset, &settings);
   pf2::readCommandLineSettings(&cli, &settings, kShortcuts);
   pf2::SlamOptions& options = app.slam;
   Inputs in = readInputs(&cli);

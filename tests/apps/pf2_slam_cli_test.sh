@@ -36,6 +36,7 @@ refused "is a folder, not a config file" "$slam" --config "$work"
 refused "the map of a 100 m^2 room would need about 750.0 GB" "$slam" --set map.voxel_size=0.002 --set map.truncation=1
 # The dedicated options are settings too: checked against the same ranges, the option named.
 refused "option --frames: setting run.max_frames = -5: outside its range" "$slam" --frames -5
+refused "no preset 'fast' (presets: offline)" "$slam" --preset fast
 refused "option --depth-scale: setting input.depth_scale = 0" "$slam" --depth-scale 0
 refused "option --synth-people: setting synth.people = 9" "$slam" --synth-people 9
 

@@ -102,5 +102,30 @@ TEST(AppSettings, SyntheticInputAndDegradationSettingsRoundTripAndRefuseOutOfRan
   EXPECT_DOUBLE_EQ(degradation.shift, 4.0);
 }
 
+// Every preset sets only declared settings to allowed values, and "offline" gives the learned
+// detector its matte and crop masks; an unknown name is refused with the names there are.
+TEST(SlamPresets, SetDeclaredSettingsAndUnknownNamesAreRefused) {
+  ASSERT_FALSE(slamPresets().empty());
+  for (const SlamPreset& preset : slamPresets()) {
+    SlamOptions options;
+    Settings settings = slamSettings(&options);
+    EXPECT_NO_THROW(applySlamPreset(preset.name, &settings)) << preset.name;
+    EXPECT_NO_THROW(settings.validate()) << preset.name;
+    EXPECT_FALSE(preset.meaning.empty()) << preset.name;
+  }
+  SlamOptions options;
+  Settings settings = slamSettings(&options);
+  applySlamPreset("offline", &settings);
+  EXPECT_EQ(options.learned_segmenter, "rvm");
+  EXPECT_TRUE(options.learned_crop_masks);
+  try {
+    applySlamPreset("fast", &settings);
+    ADD_FAILURE() << "no error for an unknown preset";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'fast'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("offline"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace pf2

@@ -2,6 +2,7 @@
 // Every knob of the pipeline in one struct made of the stages' own Options (DESIGN.md: one list
 // of knobs). slamSettings() declares each setting once; docs/config.md is generated from it.
 #include <string>
+#include <vector>
 
 #include "pf2/core/config_file.h"
 #include "pf2/core/settings.h"
@@ -160,6 +161,22 @@ struct SlamOptions {
 // Every setting of SlamOptions, declared once with its key, unit, range and meaning (the list is
 // docs/config.md, generated from it): bound to *options, which must outlive the result.
 Settings slamSettings(SlamOptions* options);
+
+// A named set of settings (pf2_slam --preset NAME): what a kind of use changes from the
+// defaults, applied before --config and --set, so either can still change any of them.
+struct SlamPreset {
+  std::string name;
+  std::string meaning;                   // one line for --help and the docs
+  std::vector<std::string> assignments;  // "key=value", each a setting of slamSettings()
+};
+
+// The presets, in the order --help lists them. "offline": the cleanest person masks the learned
+// detector gives (video matting and crop masks), at a few frames per second on two cores.
+const std::vector<SlamPreset>& slamPresets();
+
+// Sets the preset's assignments in `settings` (made by slamSettings()). Throws pf2::Error naming
+// the preset and the presets there are when there is no such preset.
+void applySlamPreset(const std::string& name, Settings* settings);
 
 // Reads the keys of `config` into `options` (absent keys keep their values); fails on a key
 // nobody declared or a value outside its range. Throws pf2::Error naming file, line and key.
