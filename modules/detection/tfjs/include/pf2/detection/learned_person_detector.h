@@ -62,8 +62,8 @@ class LearnedPersonDetector : public HumanDetector {
     // the person's claimed box joins their mask (a pose without mask gets one). Also for each
     // candidate cut by the border whose bounding box holds at least crop_candidate_min_area
     // pixels (MoveNet finds few of the people the border cuts): the crop around that box joins the
-    // candidate's mask, which stays a candidate. Each crop costs about one selfie network's time,
-    // so off by default (not real time with two or three people); docs/learned_detection.md, "Crop
+    // candidate's mask, which stays a candidate. Each crop costs about 0.7 of the selfie network's
+    // time (crop.input_size 192), so off by default (not real time with two or three people); docs/learned_detection.md, "Crop
     // masks".
     bool crop_masks = false;
     PersonCropSegmenter::Options crop;
