@@ -563,6 +563,17 @@ cv::Mat staticUnderMasks(const cv::Mat& depth, const cv::Mat& known, const std::
   return kept;
 }
 
+// `kept_under_masks` (may be empty) with the pixels only the temporal guard removed added: kept
+// before the guard (`unguarded`), still in the guard's state (kRemoved) after every later rule,
+// and not marked by the geometric addition's dynamic mask (may be empty).
+cv::Mat withGuardedOnly(const cv::Mat& kept_under_masks, const cv::Mat& unguarded, const cv::Mat& state,
+                        const cv::Mat& dynamic) {
+  cv::Mat guarded_only = (state == kRemoved) & unguarded;
+  if (!dynamic.empty()) guarded_only.setTo(0, dynamic);
+  if (kept_under_masks.empty()) return guarded_only;
+  return guarded_only | kept_under_masks;
+}
+
 // D_b keeps the depth at `pixels` (CV_8U, 255), which are reported as kept under the masks.
 void keepUnderMasks(const cv::Mat& depth, const cv::Mat& pixels, DualBBoxFilter::Result* result) {
   depth.copyTo(result->static_depth, pixels);
@@ -715,6 +726,8 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   }
   const std::vector<cv::Rect> areas = labelPeople(depth, boxes, intervals, second_intervals, human_margin, state_);
   removeRingOutliers(depth, boxes, result.background, o.background_margin, outside_, state_);
+  const bool guard_for_tracker_only = o.temporal && o.temporal_tracker_only;
+  if (guard_for_tracker_only) cv::compare(state_, kKept, unguarded_, cv::CMP_EQ);
   const cv::Rect guarded_area = o.temporal ? temporal_.guard(depth, temporalIntrinsics(depth), T_cur_prev, state_)
                                            : cv::Rect();
   if (o.use_mask && o.depth_gate.radius > 0) {  // the local depth gate: apart from the people's depth
@@ -724,11 +737,12 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   const cv::Mat dynamic =
       o.geometric ? geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation) : cv::Mat();
   const cv::Mat known = dynamic.empty() ? cv::Mat() : geometric_.knownStatic(depth, dynamic);
-  const cv::Mat under_masks = o.keep_static_behind_masks && !known.empty()
-                                  ? staticUnderMasks(depth, known, boxes, detections, intervals, human_margin, state_)
-                                  : cv::Mat();
+  cv::Mat under_masks = o.keep_static_behind_masks && !known.empty()
+                            ? staticUnderMasks(depth, known, boxes, detections, intervals, human_margin, state_)
+                            : cv::Mat();
   if (!known.empty()) keepOutsideMasks(withoutPosedPeople(known, boxes, detections, o, state_), boxes, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
+  if (guard_for_tracker_only) under_masks = withGuardedOnly(under_masks, unguarded_, state_, dynamic);
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);
   // After the people and the temporal guard: they still see these pixels as the person's.

@@ -352,6 +352,48 @@ TEST(DualBBoxFilter, TemporalAdditionGuardsAMissedPersonForMaxAgeFrames) {
   EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(17, 10, 10, 15))), 0);
 }
 
+// temporal_tracker_only: what only the guard removed stays in D_b for the map and is reported in
+// kept_under_masks (the tracker leaves it out); what a box labelled, or what the dynamic evidence
+// marks, stays removed.
+TEST(DualBBoxFilter, TemporalTrackerOnlyKeepsTheGuardsPixelsForTheMap) {
+  const Scene scene;
+  const cv::Rect body(15, 10, 10, 15);
+  DualBBoxFilter::Options o = testOptions();
+  o.temporal = true;
+  o.temporal_guard.dilation = 1;
+  // Two frames, the person boxed in the first and missed in the second (the guard's frame).
+  auto run = [&](bool tracker_only) {
+    o.temporal_tracker_only = tracker_only;
+    DualBBoxFilter filter(o);
+    filter.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
+    const auto boxed = filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
+    EXPECT_EQ(cv::countNonZero(boxed.static_depth(body)), 1);  // the box took the body
+    EXPECT_TRUE(boxed.kept_under_masks.empty() || cv::countNonZero(boxed.kept_under_masks) == 0);
+    return filter.filter(scene.depth, detections({}));
+  };
+  const auto removed = run(false);
+  const int guarded = cv::countNonZero(removed.removed);
+  EXPECT_GE(cv::countNonZero(removed.removed(body)), body.area() - 2);  // all but 1.9 m and no depth
+  const auto kept = run(true);
+  EXPECT_EQ(cv::countNonZero(kept.removed), 0);
+  EXPECT_EQ(differing(kept.static_depth, scene.depth), 0);
+  ASSERT_FALSE(kept.kept_under_masks.empty());
+  EXPECT_EQ(cv::countNonZero(kept.kept_under_masks), guarded);
+  EXPECT_EQ(cv::countNonZero(kept.kept_under_masks != removed.removed), 0);
+  // With evidence that the body stands in front of the wall, the guarded body stays removed.
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPrediction(cv::Mat(30, 40, CV_32F, cv::Scalar(3.02f)));
+  o.geometric = true;
+  o.temporal_tracker_only = true;
+  DualBBoxFilter with_evidence(o);
+  with_evidence.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
+  with_evidence.setDynamicEvidence(evidence);
+  with_evidence.filter(scene.depth, detections({person(14, 9, 26, 26)}));
+  const auto dynamic = with_evidence.filter(scene.depth, detections({}));
+  EXPECT_EQ(cv::countNonZero(dynamic.static_depth(body)), 0);
+  EXPECT_TRUE(dynamic.kept_under_masks.empty() || cv::countNonZero(dynamic.kept_under_masks) == 0);
+}
+
 TEST(DualBBoxFilter, TemporalGuardWidensWithThePersonsMotionAtTheirDepth) {
   // A person 0.6 m from a still camera (fx = 60), cols 30..39, rows 20..49, in front of a wall at
   // 3 m; next frame they moved 8 px to the right and the detector missed them.

@@ -155,10 +155,14 @@ class SlamSystem::Pipeline {
                          Eigen::Isometry3d::Identity(), {}};
       // The world's up (for the bodies, the floor and stats.json), from the first frames' floor and
       // table tops.
+      // Both from the depth the tracker used: what the filter kept for the map alone can still hold
+      // people's outlines, which moved the up and the floor (Bonn crowd 14.4 -> 20.8 mm with
+      // filter.temporal_tracker_only, docs/BENCHMARKS.md).
       if (record.has_pose && result.status != TrackStatus::kBridged) {
-        up_.update(static_frame.depth, frame.intrinsics, result.T_w_c);
+        const cv::Mat tracked_depth = trackedDepth(static_frame.depth, filtered);
+        up_.update(tracked_depth, frame.intrinsics, result.T_w_c);
         // The floor's height is measured along the up, so only once the up is final.
-        if (up_.settled()) floor_.update(static_frame.depth, frame.intrinsics, result.T_w_c, up_.up_w());
+        if (up_.settled()) floor_.update(tracked_depth, frame.intrinsics, result.T_w_c, up_.up_w());
       }
       std::vector<FrameResult::Person> people;
       if (track_humans_) people = placePeople(frame, detections, filtered, result, &record);
@@ -333,6 +337,14 @@ class SlamSystem::Pipeline {
   static cv::Mat trackerMask(const DualBBoxFilter::Result& filtered) {
     if (filtered.kept_under_masks.empty()) return filtered.removed;
     return filtered.removed | filtered.kept_under_masks;
+  }
+
+  // The static depth without what the filter kept for the map alone (the depth the tracker used).
+  static cv::Mat trackedDepth(const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered) {
+    if (filtered.kept_under_masks.empty()) return static_depth;
+    cv::Mat tracked = static_depth.clone();
+    tracked.setTo(0.f, filtered.kept_under_masks);
+    return tracked;
   }
 
   // The filter's removed pixels of one frame into the masks folder being written.
