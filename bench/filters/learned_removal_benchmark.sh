@@ -8,8 +8,8 @@
 # (the farthest static depth seen so far, moved with groundtruth.txt).
 # Prints recall (person depth removed), precision and retention (static depth kept). pf2_slam also
 # runs with the learned detector's crop masks (detector.crop_masks), with video matting as its mask
-# (detector.segmenter rvm), and with both and the temporal guard's ring given to the map
-# (--preset offline), that also without the geometric addition.
+# (detector.segmenter rvm), and with both and what the rules beside the masks take given to the
+# map alone (--preset offline), that also without the geometric addition.
 #
 # Usage: bench/filters/learned_removal_benchmark.sh [BUILD_DIR] [WORK_DIR] [FRAMES] [SEED]
 set -euo pipefail
@@ -64,7 +64,7 @@ for spec in "${cases[@]}"; do
   slam_row "$name" "$sequence" "pf2_slam" "$misalign"
   slam_row "$name" "$sequence" "pf2_slam, crop masks" "$misalign" --set detector.crop_masks=true
   slam_row "$name" "$sequence" "pf2_slam, rvm matte" "$misalign" --set detector.segmenter=rvm
-  slam_row "$name" "$sequence" "pf2_slam --preset offline (rvm matte + crop masks, guard ring to the map)" "$misalign" --preset offline
+  slam_row "$name" "$sequence" "pf2_slam --preset offline (rvm matte + crop masks, map keeps beside masks)" "$misalign" --preset offline
   slam_row "$name" "$sequence" "pf2_slam --preset offline, no geometric" "$misalign" --preset offline \
     --set filter.geometric=false
   row "$name" "$sequence" "paper's filter" 

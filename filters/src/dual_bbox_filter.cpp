@@ -563,15 +563,21 @@ cv::Mat staticUnderMasks(const cv::Mat& depth, const cv::Mat& known, const std::
   return kept;
 }
 
-// `kept_under_masks` (may be empty) with the pixels only the temporal guard removed added: kept
-// before the guard (`unguarded`), still in the guard's state (kRemoved) after every later rule,
-// and not marked by the geometric addition's dynamic mask (may be empty).
-cv::Mat withGuardedOnly(const cv::Mat& kept_under_masks, const cv::Mat& unguarded, const cv::Mat& state,
-                        const cv::Mat& dynamic) {
-  cv::Mat guarded_only = (state == kRemoved) & unguarded;
-  if (!dynamic.empty()) guarded_only.setTo(0, dynamic);
-  if (kept_under_masks.empty()) return guarded_only;
-  return guarded_only | kept_under_masks;
+// What the box, ring and temporal rules removed outside every person's dilated mask (CV_8U, 255):
+// the pixels removed in `state` apart from the masks, the labels of people without a mask (their
+// box is all there is of them) and what `dynamic` (may be empty) marks.
+cv::Mat removedOutsideMasks(const cv::Mat& state, const std::vector<FilterBox>& boxes, const cv::Mat& dynamic) {
+  cv::Mat outside = state != kKept;
+  for (size_t t = 0; t < boxes.size(); ++t) {
+    const FilterBox& b = boxes[t];
+    if (!b.mask.empty()) {
+      outside(b.mask_area).setTo(0, b.mask);
+    } else {
+      outside(b.rect).setTo(0, state(b.rect) == static_cast<uint8_t>(t + 1));
+    }
+  }
+  if (!dynamic.empty()) outside.setTo(0, dynamic);
+  return outside;
 }
 
 // D_b keeps the depth at `pixels` (CV_8U, 255), which are reported as kept under the masks.
@@ -726,8 +732,6 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   }
   const std::vector<cv::Rect> areas = labelPeople(depth, boxes, intervals, second_intervals, human_margin, state_);
   removeRingOutliers(depth, boxes, result.background, o.background_margin, outside_, state_);
-  const bool guard_for_tracker_only = o.temporal && o.temporal_tracker_only;
-  if (guard_for_tracker_only) cv::compare(state_, kKept, unguarded_, cv::CMP_EQ);
   const cv::Rect guarded_area = o.temporal ? temporal_.guard(depth, temporalIntrinsics(depth), T_cur_prev, state_)
                                            : cv::Rect();
   if (o.use_mask && o.depth_gate.radius > 0) {  // the local depth gate: apart from the people's depth
@@ -742,7 +746,10 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
                             : cv::Mat();
   if (!known.empty()) keepOutsideMasks(withoutPosedPeople(known, boxes, detections, o, state_), boxes, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
-  if (guard_for_tracker_only) under_masks = withGuardedOnly(under_masks, unguarded_, state_, dynamic);
+  if (o.outside_masks_tracker_only) {
+    const cv::Mat outside = removedOutsideMasks(state_, boxes, dynamic);
+    under_masks = under_masks.empty() ? outside : (under_masks | outside);
+  }
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);
   // After the people and the temporal guard: they still see these pixels as the person's.

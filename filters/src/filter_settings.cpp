@@ -44,8 +44,7 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->integer("filter.temporal_dilation", &t.dilation, 0, 80, "pixels", "... and by at least this many pixels");
   s->number("filter.temporal_margin", &t.margin, 0.0, 2.0, "metres", "a depth this close to the moved ones is guarded");
   s->integer("filter.temporal_max_age", &t.max_age, 0, 254, "frames", "frames a pixel is guarded without a box");
-  s->boolean("filter.temporal_tracker_only", &f->temporal_tracker_only,
-             "what only the temporal guard removed is kept for the map (pf2_slam's tracker leaves it out)");
+
   s->boolean("filter.geometric", &f->geometric,
              "remove depth in front of a predicted static depth (pf2_slam: the newest keyframes'; pf2_detect: "
              "the farthest depth seen so far)");
@@ -64,6 +63,9 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->boolean("filter.keep_behind_masks", &f->keep_static_behind_masks,
              "with keep_static, known static depth under a person's mask that lies behind their depth, or in the ring "
              "filter.mask_dilation added, is kept for the map (pf2_slam's tracker leaves it out)");
+  s->boolean("filter.outside_masks_tracker_only", &f->outside_masks_tracker_only,
+             "what the box, ring and temporal rules removed outside every mask (not a maskless person's box, not "
+             "dynamic evidence) is kept for the map (pf2_slam's tracker leaves it out)");
 }
 
 }  // namespace

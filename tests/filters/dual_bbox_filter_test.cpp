@@ -51,6 +51,22 @@ struct Scene {
   }
 };
 
+// The Scene's person boxed, with a segmenter's mask over the upper body only (cols 15..20, rows
+// 10..21), and the filter's options for masks dilated by one pixel.
+PersonDetection upperBodyMasked() {
+  PersonDetection p = person(14, 9, 26, 26);
+  p.mask = cv::Mat::zeros(30, 40, CV_8U);
+  p.mask(cv::Rect(15, 10, 6, 12)).setTo(255);
+  return p;
+}
+
+DualBBoxFilter::Options maskOptions() {
+  DualBBoxFilter::Options o = testOptions();
+  o.use_mask = true;
+  o.mask_dilation = 1;
+  return o;
+}
+
 TEST(PrincipalInterval, NearestLargeWindowGrownByNeighbours) {
   // 100 px at 1.52 m, 30 px at 1.62 m (neighbour of the window... two bins away), 160 px at 3.02 m.
   cv::Mat depth(1, 290, CV_32F);
@@ -352,29 +368,36 @@ TEST(DualBBoxFilter, TemporalAdditionGuardsAMissedPersonForMaxAgeFrames) {
   EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(17, 10, 10, 15))), 0);
 }
 
-// temporal_tracker_only: what only the guard removed stays in D_b for the map and is reported in
-// kept_under_masks (the tracker leaves it out); what a box labelled, or what the dynamic evidence
-// marks, stays removed.
-TEST(DualBBoxFilter, TemporalTrackerOnlyKeepsTheGuardsPixelsForTheMap) {
+// outside_masks_tracker_only: what the box, ring and temporal rules removed outside every mask
+// stays in D_b for the map and is reported in kept_under_masks (the tracker leaves it out); a
+// person without a mask keeps their box's labels, and what the dynamic evidence marks stays removed.
+TEST(DualBBoxFilter, OutsideMasksTrackerOnlyKeepsTheGuardAndRingForTheMap) {
   const Scene scene;
   const cv::Rect body(15, 10, 10, 15);
   DualBBoxFilter::Options o = testOptions();
   o.temporal = true;
   o.temporal_guard.dilation = 1;
-  // Two frames, the person boxed in the first and missed in the second (the guard's frame).
-  auto run = [&](bool tracker_only) {
-    o.temporal_tracker_only = tracker_only;
+  // Two frames, the person boxed (no mask) in the first and missed in the second (the guard's).
+  auto run = [&](bool tracker_only, DualBBoxFilter::Result* boxed) {
+    o.outside_masks_tracker_only = tracker_only;
     DualBBoxFilter filter(o);
     filter.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
-    const auto boxed = filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
-    EXPECT_EQ(cv::countNonZero(boxed.static_depth(body)), 1);  // the box took the body
-    EXPECT_TRUE(boxed.kept_under_masks.empty() || cv::countNonZero(boxed.kept_under_masks) == 0);
+    *boxed = filter.filter(scene.depth, detections({person(14, 9, 26, 26)}));
+    EXPECT_EQ(cv::countNonZero(boxed->static_depth(body)), 1);  // the box took the body
     return filter.filter(scene.depth, detections({}));
   };
-  const auto removed = run(false);
+  DualBBoxFilter::Result boxed_removed, boxed_kept;
+  const auto removed = run(false, &boxed_removed);
   const int guarded = cv::countNonZero(removed.removed);
   EXPECT_GE(cv::countNonZero(removed.removed(body)), body.area() - 2);  // all but 1.9 m and no depth
-  const auto kept = run(true);
+  const auto kept = run(true, &boxed_kept);
+  // The boxed frame: the ring rule's two outliers (1.6 m at row 12, 2.5 m at row 27) go to the map.
+  ASSERT_FALSE(boxed_kept.kept_under_masks.empty());
+  EXPECT_EQ(cv::countNonZero(boxed_kept.kept_under_masks), 2);
+  EXPECT_EQ(boxed_kept.kept_under_masks.at<uint8_t>(12, 13), 255);
+  EXPECT_EQ(boxed_kept.kept_under_masks.at<uint8_t>(27, 20), 255);
+  EXPECT_EQ(cv::countNonZero(boxed_kept.removed), cv::countNonZero(boxed_removed.removed) - 2);
+  // The guard's frame: all it took goes to the map.
   EXPECT_EQ(cv::countNonZero(kept.removed), 0);
   EXPECT_EQ(differing(kept.static_depth, scene.depth), 0);
   ASSERT_FALSE(kept.kept_under_masks.empty());
@@ -384,14 +407,33 @@ TEST(DualBBoxFilter, TemporalTrackerOnlyKeepsTheGuardsPixelsForTheMap) {
   auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
   evidence->setPrediction(cv::Mat(30, 40, CV_32F, cv::Scalar(3.02f)));
   o.geometric = true;
-  o.temporal_tracker_only = true;
+  o.outside_masks_tracker_only = true;
   DualBBoxFilter with_evidence(o);
   with_evidence.setIntrinsics(CameraIntrinsics{30, 30, 20, 15, 40, 30});
   with_evidence.setDynamicEvidence(evidence);
   with_evidence.filter(scene.depth, detections({person(14, 9, 26, 26)}));
   const auto dynamic = with_evidence.filter(scene.depth, detections({}));
   EXPECT_EQ(cv::countNonZero(dynamic.static_depth(body)), 0);
-  EXPECT_TRUE(dynamic.kept_under_masks.empty() || cv::countNonZero(dynamic.kept_under_masks) == 0);
+  EXPECT_EQ(cv::countNonZero(dynamic.kept_under_masks(body)), 0);
+}
+
+// outside_masks_tracker_only with a mask: the box rule's depth beside the mask (the floor at the
+// person's feet, at their depth) goes to the map; the masked body stays removed.
+TEST(DualBBoxFilter, OutsideMasksTrackerOnlyKeepsTheBoxRuleBesideAMask) {
+  Scene scene;
+  const cv::Rect floor(22, 22, 4, 4);
+  scene.depth(floor).setTo(1.55f);
+  const PersonDetection p = upperBodyMasked();
+  DualBBoxFilter::Options o = maskOptions();
+  const auto paper = DualBBoxFilter(o).filter(scene.depth, detections({p}));
+  EXPECT_EQ(cv::countNonZero(paper.static_depth(floor)), 0);  // the box rule took the floor
+  o.outside_masks_tracker_only = true;
+  const auto r = DualBBoxFilter(o).filter(scene.depth, detections({p}));
+  EXPECT_EQ(cv::countNonZero(r.static_depth(floor)), floor.area());
+  ASSERT_FALSE(r.kept_under_masks.empty());
+  EXPECT_EQ(cv::countNonZero(r.kept_under_masks(floor)), floor.area());
+  EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(15, 10, 6, 12))), 0);  // the masked body
+  EXPECT_EQ(r.people.size(), 1u);
 }
 
 TEST(DualBBoxFilter, TemporalGuardWidensWithThePersonsMotionAtTheirDepth) {
@@ -426,12 +468,8 @@ TEST(DualBBoxFilter, TemporalGuardWidensWithThePersonsMotionAtTheirDepth) {
 TEST(DualBBoxFilter, MaskReachKeepsBoxPixelsFarFromThePerson) {
   Scene scene;
   scene.depth(cv::Rect(22, 22, 4, 4)).setTo(1.55f);  // "floor" in the box's corner at the body's depth
-  PersonDetection p = person(14, 9, 26, 26);
-  p.mask = cv::Mat::zeros(30, 40, CV_8U);
-  p.mask(cv::Rect(15, 10, 6, 12)).setTo(255);  // the segmenter's person: cols 15..20, rows 10..21
-  DualBBoxFilter::Options o = testOptions();
-  o.use_mask = true;
-  o.mask_dilation = 1;
+  const PersonDetection p = upperBodyMasked();
+  DualBBoxFilter::Options o = maskOptions();
   const auto everywhere = DualBBoxFilter(o).filter(scene.depth, detections({p}));
   EXPECT_EQ(everywhere.static_depth.at<float>(24, 24), 0.f);  // the paper: removed
   o.mask_box_reach = 2;
@@ -447,12 +485,8 @@ TEST(DualBBoxFilter, MaskReachKeepsBoxPixelsFarFromThePerson) {
 // given back; the arm at the person's depth and the body outside the mask stay removed.
 TEST(DualBBoxFilter, DepthGateGivesBackDepthApartFromThePerson) {
   const Scene scene;
-  PersonDetection p = person(14, 9, 26, 26);
-  p.mask = cv::Mat::zeros(30, 40, CV_8U);
-  p.mask(cv::Rect(15, 10, 6, 12)).setTo(255);  // cols 15..20, rows 10..21
-  DualBBoxFilter::Options o = testOptions();
-  o.use_mask = true;
-  o.mask_dilation = 1;
+  const PersonDetection p = upperBodyMasked();
+  DualBBoxFilter::Options o = maskOptions();
   const auto ungated = DualBBoxFilter(o).filter(scene.depth, detections({p}));
   o.depth_gate = PersonDepthGate::Options{8, 0.1};
   const auto gated = DualBBoxFilter(o).filter(scene.depth, detections({p}));

@@ -103,8 +103,8 @@ TEST(AppSettings, SyntheticInputAndDegradationSettingsRoundTripAndRefuseOutOfRan
 }
 
 // Every preset sets only declared settings to allowed values, and "offline" gives the learned
-// detector its matte and crop masks and the map the temporal guard's ring; an unknown name is
-// refused with the names there are.
+// detector its matte and crop masks and the map what the rules beside the masks took; an unknown
+// name is refused with the names there are.
 TEST(SlamPresets, SetDeclaredSettingsAndUnknownNamesAreRefused) {
   ASSERT_FALSE(slamPresets().empty());
   for (const SlamPreset& preset : slamPresets()) {
@@ -119,8 +119,8 @@ TEST(SlamPresets, SetDeclaredSettingsAndUnknownNamesAreRefused) {
   applySlamPreset("offline", &settings);
   EXPECT_EQ(options.learned_segmenter, "rvm");
   EXPECT_TRUE(options.learned_crop_masks);
-  EXPECT_TRUE(options.filter.temporal_tracker_only);
-  EXPECT_FALSE(SlamOptions().filter.temporal_tracker_only);
+  EXPECT_TRUE(options.filter.outside_masks_tracker_only);
+  EXPECT_FALSE(SlamOptions().filter.outside_masks_tracker_only);
   try {
     applySlamPreset("fast", &settings);
     ADD_FAILURE() << "no error for an unknown preset";

@@ -399,12 +399,12 @@ Settings slamSettings(SlamOptions* options) {
 const std::vector<SlamPreset>& slamPresets() {
   // Measured in docs/BENCHMARKS.md ("Crop masks"): with the matte and the crop masks every
   // tracking and removal target of the shared sequences is met, at 7-8 fps on two cores instead
-  // of 25-28. Their masks follow people's outlines, so the temporal guard's ring is mostly
-  // background: the map keeps it, the tracker still leaves it out (static depth kept +0.3 to
-  // +1.0 points, the tracker's input unchanged).
+  // of 25-28. Their masks follow people's outlines, so what the box, ring and temporal rules take
+  // beside them is mostly background: the map keeps it, the tracker still leaves it out (its
+  // input, and so the poses, unchanged).
   static const std::vector<SlamPreset> kPresets = {
       {"offline", "video matting and crop masks: the cleanest person masks, about 7-8 fps on 2 cores",
-       {"detector.segmenter=rvm", "detector.crop_masks=true", "filter.temporal_tracker_only=true"}}};
+       {"detector.segmenter=rvm", "detector.crop_masks=true", "filter.outside_masks_tracker_only=true"}}};
   return kPresets;
 }
 

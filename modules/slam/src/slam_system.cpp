@@ -157,7 +157,7 @@ class SlamSystem::Pipeline {
       // table tops.
       // Both from the depth the tracker used: what the filter kept for the map alone can still hold
       // people's outlines, which moved the up and the floor (Bonn crowd 14.4 -> 20.8 mm with
-      // filter.temporal_tracker_only, docs/BENCHMARKS.md).
+      // filter.outside_masks_tracker_only, docs/BENCHMARKS.md).
       if (record.has_pose && result.status != TrackStatus::kBridged) {
         const cv::Mat tracked_depth = trackedDepth(static_frame.depth, filtered);
         up_.update(tracked_depth, frame.intrinsics, result.T_w_c);

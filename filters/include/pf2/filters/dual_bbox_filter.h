@@ -19,8 +19,7 @@
 //   temporal  — the previous frame's person pixels (and those it guarded), moved into this frame
 //               with the camera motion and dilated, guard pixels whose depth agrees with them
 //               (boxes that were missed or too small); a pixel is guarded at most temporal_max_age
-//               frames without a box supporting it; with temporal_tracker_only what only the
-//               guard took is kept for the map and reported for the tracker to leave out;
+//               frames without a box supporting it;
 //   geometric — (class GeometricAddition) a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
 //               dynamic wherever it has an opinion; a detector's candidate region with enough of
 //               that evidence is removed whole (candidate_min_dynamic). With keep_static, depth
@@ -28,6 +27,8 @@
 //               rule took it, except on a mask and on the skeleton of a person posed without one;
 //               with keep_static_behind_masks also on a mask where it lies behind the person or
 //               in the ring the mask's dilation added.
+//   outside_masks_tracker_only — what the box, ring and temporal rules took outside the masks is
+//               kept for the map and reported for the tracker to leave out.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -167,11 +168,12 @@ class DualBBoxFilter {
     // around the segmenter's own mask is kept in D_b too, and reported in
     // Result::kept_under_masks for callers whose colour term should leave it out.
     bool keep_static_behind_masks = false;
-    // With temporal: the pixels only the temporal guard removed (no box, mask, ring or dynamic
-    // evidence took them) are kept in D_b for the map and reported in Result::kept_under_masks,
-    // so a caller's tracker still leaves them out. Meant for masks that follow people's outlines
-    // closely (video matting), where the guard's ring is mostly background.
-    bool temporal_tracker_only = false;
+    // What the box, ring and temporal rules removed outside every person's dilated mask, unless
+    // it is the box of a person without a mask or the dynamic evidence marks it, is kept in D_b
+    // for the map and reported in Result::kept_under_masks, so a caller's tracker still leaves
+    // it out. Meant for masks that follow people's outlines closely (video matting and crop
+    // masks), where what those rules take beside a mask is mostly background.
+    bool outside_masks_tracker_only = false;
   };
 
   struct Person {
@@ -190,9 +192,9 @@ class DualBBoxFilter {
     cv::Mat static_depth;      // D_b, CV_32F metres, 0 where removed or no measurement
     cv::Mat removed;           // CV_8U, 255 where a measured depth was removed from D_b
     // CV_8U, 255 where D_b keeps depth under a person's mask (Options::keep_static_behind_masks)
-    // or that only the temporal guard took (Options::temporal_tracker_only): right as depth for
-    // the map, but still doubtful for a tracker (a person's colour, or a person's carried
-    // outline); empty when none.
+    // or that the box, ring or temporal rule took outside the masks
+    // (Options::outside_masks_tracker_only): right as depth for the map, but still doubtful for
+    // a tracker (a person's colour, or a person's carried outline); empty when none.
     cv::Mat kept_under_masks;
     std::vector<Person> people;
     DepthInterval background;  // (b_min, b_max)
@@ -233,7 +235,7 @@ class DualBBoxFilter {
   Options options_;
   std::optional<CameraIntrinsics> intrinsics_;
   // Working images kept between calls: allocating them anew costs more than filling them.
-  cv::Mat depth_, state_, outside_, unguarded_;
+  cv::Mat depth_, state_, outside_;
   TemporalGuard temporal_;
   PersonDepthGate depth_gate_;
   GeometricAddition geometric_;
