@@ -110,6 +110,13 @@ batch "$work/seqs/*" -o "$work/batch" --grid "$work/grid.yaml" --dry-run > "$wor
   fail "--grid --dry-run exit code: $(cat "$work/dry.out")"
 [ "$(grep -c '^skip ' "$work/dry.out")" -eq 6 ] || fail "--grid does not name the 6 complete runs: $(cat "$work/dry.out")"
 
+# A preset is one more grid key: "none" names the complete runs, "offline" new ones.
+batch "$work/seqs/*" -o "$work/batch" --preset none,offline --set detector.name=gt,none \
+  --set map.build=false --set tracker.asynchronous_backend=false --dry-run > "$work/preset.out" 2>&1 ||
+  fail "--preset --dry-run exit code: $(cat "$work/preset.out")"
+[ "$(grep -c '^run .*preset=offline' "$work/preset.out")" -eq 6 ] || fail "--preset offline runs: $(cat "$work/preset.out")"
+[ "$(grep -c '^skip ' "$work/preset.out")" -eq 6 ] || fail "--preset none runs: $(cat "$work/preset.out")"
+
 # Failures: a sequence whose images are missing fails twice and is reported; a run whose pf2_slam
 # is killed once, and one whose worker is killed once, succeed on their retry.
 mkdir -p "$work/seqs_bad/broken"
@@ -171,6 +178,7 @@ refused "no folder matches" "$work/nowhere/*"
 printf 'map.build: [true\n' > "$work/bad.yaml"
 refused "bad.yaml:2: not valid YAML/JSON" "$work/seqs/s_xyz" --grid "$work/bad.yaml"
 refused "expected KEY=VALUE" "$work/seqs/s_xyz" --set map.build
+refused "settings preset=fast: no preset 'fast' (presets: offline)" "$work/seqs/s_xyz" --preset fast
 refused "pf2_slam not found" "$work/seqs/s_xyz" --pf2-slam "$work/nowhere/pf2_slam"
 
 [ "$failures" -eq 0 ] && echo "pf2_batch: all checks passed"
