@@ -580,11 +580,11 @@ cv::Mat removedOutsideMasks(const cv::Mat& state, const std::vector<FilterBox>& 
   return outside;
 }
 
-// D_b keeps the depth at `pixels` (CV_8U, 255), which are reported as kept under the masks.
-void keepUnderMasks(const cv::Mat& depth, const cv::Mat& pixels, DualBBoxFilter::Result* result) {
+// D_b keeps the depth at `pixels` (CV_8U, 255), which are reported as kept for the map only.
+void keepForMapOnly(const cv::Mat& depth, const cv::Mat& pixels, DualBBoxFilter::Result* result) {
   depth.copyTo(result->static_depth, pixels);
   result->removed.setTo(0, pixels);
-  result->kept_under_masks = pixels;
+  result->kept_for_map_only = pixels;
 }
 
 // The people's depth the gate compares with: each raw backend mask's pixels whose depth lies in
@@ -741,19 +741,19 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   const cv::Mat dynamic =
       o.geometric ? geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation) : cv::Mat();
   const cv::Mat known = dynamic.empty() ? cv::Mat() : geometric_.knownStatic(depth, dynamic);
-  cv::Mat under_masks = o.keep_static_behind_masks && !known.empty()
-                            ? staticUnderMasks(depth, known, boxes, detections, intervals, human_margin, state_)
-                            : cv::Mat();
+  cv::Mat map_only = o.keep_static_behind_masks && !known.empty()
+                         ? staticUnderMasks(depth, known, boxes, detections, intervals, human_margin, state_)
+                         : cv::Mat();
   if (!known.empty()) keepOutsideMasks(withoutPosedPeople(known, boxes, detections, o, state_), boxes, state_);
   writeStaticDepth(depth, state_, dynamic, &result);
   if (o.outside_masks_tracker_only) {
     const cv::Mat outside = removedOutsideMasks(state_, boxes, dynamic);
-    under_masks = under_masks.empty() ? outside : (under_masks | outside);
+    map_only = map_only.empty() ? outside : (map_only | outside);
   }
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);
   // After the people and the temporal guard: they still see these pixels as the person's.
-  if (!under_masks.empty()) keepUnderMasks(depth, under_masks, &result);
+  if (!map_only.empty()) keepForMapOnly(depth, map_only, &result);
   return result;
 }
 

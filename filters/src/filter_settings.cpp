@@ -44,7 +44,6 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->integer("filter.temporal_dilation", &t.dilation, 0, 80, "pixels", "... and by at least this many pixels");
   s->number("filter.temporal_margin", &t.margin, 0.0, 2.0, "metres", "a depth this close to the moved ones is guarded");
   s->integer("filter.temporal_max_age", &t.max_age, 0, 254, "frames", "frames a pixel is guarded without a box");
-
   s->boolean("filter.geometric", &f->geometric,
              "remove depth in front of a predicted static depth (pf2_slam: the newest keyframes'; pf2_detect: "
              "the farthest depth seen so far)");

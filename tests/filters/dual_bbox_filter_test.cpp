@@ -369,7 +369,7 @@ TEST(DualBBoxFilter, TemporalAdditionGuardsAMissedPersonForMaxAgeFrames) {
 }
 
 // outside_masks_tracker_only: what the box, ring and temporal rules removed outside every mask
-// stays in D_b for the map and is reported in kept_under_masks (the tracker leaves it out); a
+// stays in D_b for the map and is reported in kept_for_map_only (the tracker leaves it out); a
 // person without a mask keeps their box's labels, and what the dynamic evidence marks stays removed.
 TEST(DualBBoxFilter, OutsideMasksTrackerOnlyKeepsTheGuardAndRingForTheMap) {
   const Scene scene;
@@ -392,17 +392,17 @@ TEST(DualBBoxFilter, OutsideMasksTrackerOnlyKeepsTheGuardAndRingForTheMap) {
   EXPECT_GE(cv::countNonZero(removed.removed(body)), body.area() - 2);  // all but 1.9 m and no depth
   const auto kept = run(true, &boxed_kept);
   // The boxed frame: the ring rule's two outliers (1.6 m at row 12, 2.5 m at row 27) go to the map.
-  ASSERT_FALSE(boxed_kept.kept_under_masks.empty());
-  EXPECT_EQ(cv::countNonZero(boxed_kept.kept_under_masks), 2);
-  EXPECT_EQ(boxed_kept.kept_under_masks.at<uint8_t>(12, 13), 255);
-  EXPECT_EQ(boxed_kept.kept_under_masks.at<uint8_t>(27, 20), 255);
+  ASSERT_FALSE(boxed_kept.kept_for_map_only.empty());
+  EXPECT_EQ(cv::countNonZero(boxed_kept.kept_for_map_only), 2);
+  EXPECT_EQ(boxed_kept.kept_for_map_only.at<uint8_t>(12, 13), 255);
+  EXPECT_EQ(boxed_kept.kept_for_map_only.at<uint8_t>(27, 20), 255);
   EXPECT_EQ(cv::countNonZero(boxed_kept.removed), cv::countNonZero(boxed_removed.removed) - 2);
   // The guard's frame: all it took goes to the map.
   EXPECT_EQ(cv::countNonZero(kept.removed), 0);
   EXPECT_EQ(differing(kept.static_depth, scene.depth), 0);
-  ASSERT_FALSE(kept.kept_under_masks.empty());
-  EXPECT_EQ(cv::countNonZero(kept.kept_under_masks), guarded);
-  EXPECT_EQ(cv::countNonZero(kept.kept_under_masks != removed.removed), 0);
+  ASSERT_FALSE(kept.kept_for_map_only.empty());
+  EXPECT_EQ(cv::countNonZero(kept.kept_for_map_only), guarded);
+  EXPECT_EQ(cv::countNonZero(kept.kept_for_map_only != removed.removed), 0);
   // With evidence that the body stands in front of the wall, the guarded body stays removed.
   auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
   evidence->setPrediction(cv::Mat(30, 40, CV_32F, cv::Scalar(3.02f)));
@@ -414,7 +414,7 @@ TEST(DualBBoxFilter, OutsideMasksTrackerOnlyKeepsTheGuardAndRingForTheMap) {
   with_evidence.filter(scene.depth, detections({person(14, 9, 26, 26)}));
   const auto dynamic = with_evidence.filter(scene.depth, detections({}));
   EXPECT_EQ(cv::countNonZero(dynamic.static_depth(body)), 0);
-  EXPECT_EQ(cv::countNonZero(dynamic.kept_under_masks(body)), 0);
+  EXPECT_EQ(cv::countNonZero(dynamic.kept_for_map_only(body)), 0);
 }
 
 // outside_masks_tracker_only with a mask: the box rule's depth beside the mask (the floor at the
@@ -430,8 +430,8 @@ TEST(DualBBoxFilter, OutsideMasksTrackerOnlyKeepsTheBoxRuleBesideAMask) {
   o.outside_masks_tracker_only = true;
   const auto r = DualBBoxFilter(o).filter(scene.depth, detections({p}));
   EXPECT_EQ(cv::countNonZero(r.static_depth(floor)), floor.area());
-  ASSERT_FALSE(r.kept_under_masks.empty());
-  EXPECT_EQ(cv::countNonZero(r.kept_under_masks(floor)), floor.area());
+  ASSERT_FALSE(r.kept_for_map_only.empty());
+  EXPECT_EQ(cv::countNonZero(r.kept_for_map_only(floor)), floor.area());
   EXPECT_EQ(cv::countNonZero(r.static_depth(cv::Rect(15, 10, 6, 12))), 0);  // the masked body
   EXPECT_EQ(r.people.size(), 1u);
 }
@@ -719,13 +719,13 @@ TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheWallUnderTheMaskAndReportsIt) 
   auto run = [&](bool keep_behind) { return filterWithPrediction(scene.depth, p, prediction, 0, keep_behind); };
   const auto off = run(false);
   EXPECT_EQ(off.static_depth.at<float>(20, 16), 0.f);  // under the mask: removed
-  EXPECT_TRUE(off.kept_under_masks.empty());
+  EXPECT_TRUE(off.kept_for_map_only.empty());
   const auto on = run(true);
   EXPECT_EQ(on.static_depth.at<float>(20, 16), 1.9f);
   EXPECT_EQ(on.removed.at<uint8_t>(20, 16), 0);
-  ASSERT_FALSE(on.kept_under_masks.empty());
-  EXPECT_EQ(cv::countNonZero(on.kept_under_masks), 1);
-  EXPECT_EQ(on.kept_under_masks.at<uint8_t>(20, 16), 255);
+  ASSERT_FALSE(on.kept_for_map_only.empty());
+  EXPECT_EQ(cv::countNonZero(on.kept_for_map_only), 1);
+  EXPECT_EQ(on.kept_for_map_only.at<uint8_t>(20, 16), 255);
   EXPECT_EQ(cv::countNonZero(on.static_depth(cv::Rect(15, 10, 10, 15))), 1);  // the person stays removed
   EXPECT_EQ(on.people.size(), off.people.size());
   // Not known static (no prediction there): the mask stands.
@@ -752,8 +752,8 @@ TEST(DualBBoxFilter, KeepStaticBehindMasksKeepsTheKnownStaticRingOfTheDilation) 
   EXPECT_EQ(cv::countNonZero(off.static_depth(chair)), 0);
   const auto on = run(true);
   EXPECT_EQ(cv::countNonZero(on.static_depth(chair)), chair.area());
-  ASSERT_FALSE(on.kept_under_masks.empty());
-  EXPECT_EQ(cv::countNonZero(on.kept_under_masks(chair)), chair.area());
+  ASSERT_FALSE(on.kept_for_map_only.empty());
+  EXPECT_EQ(cv::countNonZero(on.kept_for_map_only(chair)), chair.area());
   EXPECT_EQ(cv::countNonZero(on.static_depth(cv::Rect(15, 10, 1, 15))), 0);  // the missed outline
   EXPECT_EQ(on.static_depth.at<float>(12, 20), 0.f);                          // under the own mask
   EXPECT_EQ(on.removed.at<uint8_t>(12, 20), 255);

@@ -154,10 +154,9 @@ class SlamSystem::Pipeline {
       FrameRecord record{frame.timestamp, result.status, hasPose(result.status), result.keyframe_id,
                          Eigen::Isometry3d::Identity(), {}};
       // The world's up (for the bodies, the floor and stats.json), from the first frames' floor and
-      // table tops.
-      // Both from the depth the tracker used: what the filter kept for the map alone can still hold
-      // people's outlines, which moved the up and the floor (Bonn crowd 14.4 -> 20.8 mm with
-      // filter.outside_masks_tracker_only, docs/BENCHMARKS.md).
+      // table tops; both from the depth the tracker used: what the filter kept for the map alone
+      // can still hold people's outlines, which moved the up and the floor (Bonn crowd 14.4 ->
+      // 20.8 mm with filter.outside_masks_tracker_only, docs/BENCHMARKS.md).
       if (record.has_pose && result.status != TrackStatus::kBridged) {
         const cv::Mat tracked_depth = trackedDepth(static_frame.depth, filtered);
         up_.update(tracked_depth, frame.intrinsics, result.T_w_c);
@@ -335,15 +334,15 @@ class SlamSystem::Pipeline {
   // colour is still partly the person's (the photometric term would follow them; Bonn crowd ATE
   // 1.45 -> 2.07 cm when it was tracked on, docs/BENCHMARKS.md).
   static cv::Mat trackerMask(const DualBBoxFilter::Result& filtered) {
-    if (filtered.kept_under_masks.empty()) return filtered.removed;
-    return filtered.removed | filtered.kept_under_masks;
+    if (filtered.kept_for_map_only.empty()) return filtered.removed;
+    return filtered.removed | filtered.kept_for_map_only;
   }
 
   // The static depth without what the filter kept for the map alone (the depth the tracker used).
   static cv::Mat trackedDepth(const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered) {
-    if (filtered.kept_under_masks.empty()) return static_depth;
+    if (filtered.kept_for_map_only.empty()) return static_depth;
     cv::Mat tracked = static_depth.clone();
-    tracked.setTo(0.f, filtered.kept_under_masks);
+    tracked.setTo(0.f, filtered.kept_for_map_only);
     return tracked;
   }
 

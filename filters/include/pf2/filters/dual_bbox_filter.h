@@ -166,11 +166,11 @@ class DualBBoxFilter {
     // that lies more than human_margin behind the person's interval (the wall the segmenter's
     // blurred edge, or a real person's hair, spills over) or in the ring mask_dilation added
     // around the segmenter's own mask is kept in D_b too, and reported in
-    // Result::kept_under_masks for callers whose colour term should leave it out.
+    // Result::kept_for_map_only for callers whose colour term should leave it out.
     bool keep_static_behind_masks = false;
     // What the box, ring and temporal rules removed outside every person's dilated mask, unless
     // it is the box of a person without a mask or the dynamic evidence marks it, is kept in D_b
-    // for the map and reported in Result::kept_under_masks, so a caller's tracker still leaves
+    // for the map and reported in Result::kept_for_map_only, so a caller's tracker still leaves
     // it out. Meant for masks that follow people's outlines closely (video matting and crop
     // masks), where what those rules take beside a mask is mostly background.
     bool outside_masks_tracker_only = false;
@@ -195,7 +195,7 @@ class DualBBoxFilter {
     // or that the box, ring or temporal rule took outside the masks
     // (Options::outside_masks_tracker_only): right as depth for the map, but still doubtful for
     // a tracker (a person's colour, or a person's carried outline); empty when none.
-    cv::Mat kept_under_masks;
+    cv::Mat kept_for_map_only;
     std::vector<Person> people;
     DepthInterval background;  // (b_min, b_max)
   };
