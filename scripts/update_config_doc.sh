@@ -22,7 +22,7 @@ one with `--set key=value` (repeatable, applied after the file); the dedicated o
 misspelt key or a malformed line is an error naming the key, the value, the allowed range and,
 in a file, the line; nothing is run or written then. `pf2_slam --settings` prints this table.
 `pf2_slam --preset NAME` sets a named group of them before the file (`offline`: video matting
-and crop masks; `pf2_slam --help` lists each preset's settings).
+and crop masks, the map keeping what the filter's rules take beside them; `pf2_slam --help` lists each preset's settings).
 
 HEAD
   "$build/apps/pf2_slam" --settings

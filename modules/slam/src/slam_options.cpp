@@ -403,7 +403,7 @@ const std::vector<SlamPreset>& slamPresets() {
   // beside them is mostly background: the map keeps it, the tracker still leaves it out (its
   // input, and so the poses, unchanged).
   static const std::vector<SlamPreset> kPresets = {
-      {"offline", "video matting and crop masks: the cleanest person masks, about 7-8 fps on 2 cores",
+      {"offline", "video matting and crop masks, the map keeping what the rules beside them take: the cleanest maps, about 7-8 fps on 2 cores",
        {"detector.segmenter=rvm", "detector.crop_masks=true", "filter.outside_masks_tracker_only=true"}}};
   return kPresets;
 }
