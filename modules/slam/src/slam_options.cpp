@@ -98,6 +98,10 @@ void detectorSettings(SlamOptions& o, Settings& s) {
             "the learned detector completes the masks of people the selfie mask covers badly (cut by the "
             "border, a keypoint off the mask) and of candidates cut by the border with BlazePose's segmentation "
             "of a crop around each; about 0.7 of the selfie network's time per such person and frame: not real time");
+  s.boolean("detector.candidate_poses", &o.learned_candidate_poses,
+            "the learned detector runs MoveNet again on a crop around each large mask component no pose "
+            "touches (a person close to the lens or cut by the border), on the frames MoveNet runs; a pose "
+            "found there makes it a person");
   s.integer("detector.crop_size", &o.learned_crop_size, 192, 256, "pixels",
             "side of the crop network's input (detector.crop_masks): 192, 224 or 256; 192 takes 0.6 of "
             "256's time");

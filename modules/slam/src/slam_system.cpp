@@ -551,6 +551,7 @@ std::unique_ptr<HumanDetector> createSlamDetector(const SlamOptions& options, co
   detection.extra["learned.segmenter"] = options.learned_segmenter;
   detection.extra["learned.crop_masks"] = options.learned_crop_masks ? "1" : "0";
   detection.extra["learned.crop_size"] = std::to_string(options.learned_crop_size);
+  detection.extra["learned.candidate_poses"] = options.learned_candidate_poses ? "1" : "0";
   const std::string gt_folder = sequence_folder.empty() ? "" : sequence_folder + "/gt";
   if (detection.gt.gt_folder.empty()) detection.gt.gt_folder = gt_folder;
   std::string name = options.detector;

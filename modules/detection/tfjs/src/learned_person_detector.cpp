@@ -178,6 +178,7 @@ LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(
   }
   movenet_ = std::make_unique<MoveNetDetector>(options_.movenet);
   if (options_.crop_masks) crop_ = std::make_unique<PersonCropSegmenter>(options_.crop);
+  if (options_.candidate_poses) candidate_pose_ = std::make_unique<PoseRefiner>(options_.candidate_pose);
 }
 
 LearnedPersonDetector::~LearnedPersonDetector() = default;
@@ -232,6 +233,19 @@ void LearnedPersonDetector::cropCandidates(const cv::Mat& bgr, std::vector<Perso
   }
 }
 
+void LearnedPersonDetector::findCandidatePoses(const cv::Mat& bgr, const std::vector<PersonDetection>& components,
+                                               const cv::Mat& probability) {
+  std::vector<PersonDetection> candidates;
+  combineMasksAndPoses(components, poses_, probability, options_, &candidates);
+  for (const PersonDetection& candidate : candidates) {
+    if (cv::countNonZero(candidate.mask) < options_.candidate_pose_min_area) continue;
+    PersonDetection pose;
+    if (candidate_pose_->find(bgr, candidate.box, options_.candidate_pose_min_iou, &pose) &&
+        confidentKeypoints(pose, options_.keypoint_min_score) >= options_.min_pose_keypoints)
+      poses_.push_back(std::move(pose));
+  }
+}
+
 Detections LearnedPersonDetector::detect(const Frame& frame) {
   const cv::Mat probability = matting_ ? matting_->alpha(frame.rgb) : selfie_->probability(frame.rgb);
   const std::vector<PersonDetection> components = maskComponents(probability, options_.selfie);
@@ -240,6 +254,7 @@ Detections LearnedPersonDetector::detect(const Frame& frame) {
 
   if (frames_ % options_.pose_every == 0) {
     poses_ = movenet_->detect(frame).people;
+    if (candidate_pose_) findCandidatePoses(frame.rgb, components, probability);
   } else {
     carryPoses(mask);
   }

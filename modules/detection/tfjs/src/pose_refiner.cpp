@@ -50,6 +50,13 @@ PoseRefiner::PoseRefiner(const Options& options) : options_(options) {
 PoseRefiner::~PoseRefiner() = default;
 
 bool PoseRefiner::refine(const cv::Mat& bgr, const PersonBox& box, std::vector<Keypoint2d>* keypoints) {
+  PersonDetection person;
+  if (!find(bgr, box, options_.min_iou, &person)) return false;
+  *keypoints = std::move(person.keypoints);
+  return true;
+}
+
+bool PoseRefiner::find(const cv::Mat& bgr, const PersonBox& box, double min_iou, PersonDetection* person) {
   if (bgr.empty() || bgr.type() != CV_8UC3) throw Error("pose refiner: expected a non-empty 8-bit BGR image");
   if (box.empty()) return false;
   const cv::Rect crop = refinementCropPixels(box, options_.margin);
@@ -58,14 +65,16 @@ bool PoseRefiner::refine(const cv::Mat& bgr, const PersonBox& box, std::vector<K
   const Detections found = movenet_->detect(view);
   const PersonBox expected{box.x_ul - crop.x, box.y_ul - crop.y, box.x_lr - crop.x, box.y_lr - crop.y};
   const PersonDetection* best = nullptr;
-  float best_iou = static_cast<float>(options_.min_iou);
-  for (const PersonDetection& person : found.people) {
-    const float o = overlap(person.box, expected);
-    if (o >= best_iou && !person.keypoints.empty()) best = &person, best_iou = o;
+  float best_iou = static_cast<float>(min_iou);
+  for (const PersonDetection& candidate : found.people) {
+    const float o = overlap(candidate.box, expected);
+    if (o >= best_iou && !candidate.keypoints.empty()) best = &candidate, best_iou = o;
   }
   if (best == nullptr) return false;
-  keypoints->assign(best->keypoints.begin(), best->keypoints.end());
-  for (Keypoint2d& k : *keypoints) k.u += static_cast<float>(crop.x), k.v += static_cast<float>(crop.y);
+  *person = *best;
+  const float du = static_cast<float>(crop.x), dv = static_cast<float>(crop.y);
+  person->box = {best->box.x_ul + du, best->box.y_ul + dv, best->box.x_lr + du, best->box.y_lr + dv};
+  for (Keypoint2d& k : person->keypoints) k.u += du, k.v += dv;
   return true;
 }
 

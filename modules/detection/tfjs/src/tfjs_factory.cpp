@@ -18,7 +18,7 @@ class ExtraReader {
         "selfie.model",    "selfie.threshold", "selfie.min_area",   "selfie.square_crops", "selfie.min_score", "movenet.model",
         "movenet.width",   "movenet.height",   "movenet.min_score", "learned.pose_every",
         "learned.min_keypoints", "learned.max_component", "learned.segmenter", "learned.crop_masks",
-        "learned.crop_size"};
+        "learned.crop_size", "learned.candidate_poses"};
     for (const auto& entry : extra_) {
       const std::string family = entry.first.substr(0, entry.first.find('.') + 1);
       if ((family == "selfie." || family == "movenet." || family == "learned.") && !kKnown.count(entry.first))
@@ -97,6 +97,7 @@ std::unique_ptr<HumanDetector> createLearnedDetector(const DetectorExtraOptions&
   r.text("learned.segmenter", &o.segmenter);
   r.number("learned.crop_masks", &o.crop_masks);
   r.number("learned.crop_size", &o.crop.input_size);
+  r.number("learned.candidate_poses", &o.candidate_poses);
   return std::make_unique<LearnedPersonDetector>(o);
 }
 

@@ -40,6 +40,8 @@ struct SlamOptions {
   bool learned_crop_masks = false;
   // "learned.crop_size": the crop network's input side in pixels (createSlamDetector).
   int learned_crop_size = PersonCropSegmenter::Options{}.input_size;
+  // "learned.candidate_poses" (createSlamDetector).
+  bool learned_candidate_poses = false;
   DualBBoxFilter::Options filter = defaultFilterOptions();
   // The filter's geometric addition (filter.geometric): depth measured more than
   // geometric_margin metres in front of the static depth predicted from the newest keyframes is

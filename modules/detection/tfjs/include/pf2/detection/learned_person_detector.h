@@ -22,6 +22,7 @@
 #include "pf2/detection/crop_segmenter.h"
 #include "pf2/detection/human_detector.h"
 #include "pf2/detection/movenet_detector.h"
+#include "pf2/detection/pose_refiner.h"
 #include "pf2/detection/selfie_segmenter.h"
 #include "pf2/detection/video_matting.h"
 
@@ -68,6 +69,15 @@ class LearnedPersonDetector : public HumanDetector {
     bool crop_masks = false;
     PersonCropSegmenter::Options crop;
     int crop_candidate_min_area = 4000;  // pixels, >= 0: smaller candidates get no crop
+    // Look again for a pose on each candidate (a mask component no confident pose touches) of at
+    // least candidate_pose_min_area pixels, on the frames MoveNet runs: MoveNet on a square crop
+    // around the candidate (PoseRefiner), where a person close to the lens or cut by the border
+    // fills the input as the network expects. A pose found there with min_pose_keypoints confident
+    // keypoints, overlapping the candidate's box by candidate_pose_min_iou, becomes a person.
+    bool candidate_poses = false;
+    int candidate_pose_min_area = 4000;     // pixels, >= 0
+    double candidate_pose_min_iou = 0.3;    // [0, 1]
+    PoseRefiner::Options candidate_pose;
   };
 
   // Loads both models (and the crop model with crop_masks). Throws pf2::Error naming a
@@ -87,12 +97,16 @@ class LearnedPersonDetector : public HumanDetector {
   cv::Mat cropMasks(const cv::Mat& bgr, const cv::Mat& selfie_mask);
   // Adds its crop mask to each candidate cut by the image border and large enough.
   void cropCandidates(const cv::Mat& bgr, std::vector<PersonDetection>* candidates);
+  // Adds to poses_ the poses found on crops around the large candidates the current poses leave.
+  void findCandidatePoses(const cv::Mat& bgr, const std::vector<PersonDetection>& components,
+                          const cv::Mat& probability);
 
   Options options_;
   std::unique_ptr<SelfieSegmenter> selfie_;   // one of these two, by options_.segmenter
   std::unique_ptr<VideoMatting> matting_;
   std::unique_ptr<MoveNetDetector> movenet_;
   std::unique_ptr<PersonCropSegmenter> crop_;  // only with options_.crop_masks
+  std::unique_ptr<PoseRefiner> candidate_pose_;  // only with options_.candidate_poses
   std::vector<PersonDetection> poses_;  // latest MoveNet people, moved with the mask since
   cv::Mat previous_mask_;               // selfie mask of the previous frame (CV_8U)
   long frames_ = 0;
