@@ -169,6 +169,9 @@ LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(
   if (options_.min_pose_keypoints < 1) throw Error("learned detector: min_pose_keypoints must be at least 1");
   if (options_.whole_pose_keypoints < 1) throw Error("learned detector: whole_pose_keypoints must be at least 1");
   if (options_.crop_candidate_min_area < 0) throw Error("learned detector: crop_candidate_min_area must be at least 0");
+  if (options_.candidate_pose_min_area < 0) throw Error("learned detector: candidate_pose_min_area must be at least 0");
+  if (!(options_.candidate_pose_min_iou >= 0 && options_.candidate_pose_min_iou <= 1))
+    throw Error("learned detector: candidate_pose_min_iou must be in [0, 1]");
   if (options_.segmenter == "selfie") {
     selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
   } else if (options_.segmenter == "rvm") {

@@ -11,7 +11,8 @@
 // mask under them stay as boxes without a mask. A person's score is the mean mask probability when
 // it has a mask, MoveNet's score otherwise (at least the share of confident keypoints of a pose
 // seen whole). Components no person touches (and not implausibly
-// large) are handed on as Detections::candidates. With crop_masks, the mask of each person the
+// large) are handed on as Detections::candidates; with candidate_poses, the large ones first get a
+// second look for a pose on a crop around them. With crop_masks, the mask of each person the
 // selfie mask covers badly is completed by PersonCropSegmenter on a crop around their pose.
 #include <memory>
 #include <string>
@@ -82,7 +83,8 @@ class LearnedPersonDetector : public HumanDetector {
 
   // Loads both models (and the crop model with crop_masks). Throws pf2::Error naming a
   // missing/unreadable model, an unknown segmenter, or if pose_every, min_pose_keypoints or
-  // whole_pose_keypoints < 1 or crop_candidate_min_area < 0.
+  // whole_pose_keypoints < 1, crop_candidate_min_area or candidate_pose_min_area < 0, or
+  // candidate_pose_min_iou is outside [0, 1].
   explicit LearnedPersonDetector(const Options& options);
   ~LearnedPersonDetector() override;
 
