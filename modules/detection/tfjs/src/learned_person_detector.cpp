@@ -238,6 +238,8 @@ void LearnedPersonDetector::cropCandidates(const cv::Mat& bgr, std::vector<Perso
 
 void LearnedPersonDetector::findCandidatePoses(const cv::Mat& bgr, const std::vector<PersonDetection>& components,
                                                const cv::Mat& probability) {
+  // The candidates are what the merge with this frame's poses leaves; only their boxes are used
+  // here, and the merge runs again in detect() once the poses found on them have joined.
   std::vector<PersonDetection> candidates;
   combineMasksAndPoses(components, poses_, probability, options_, &candidates);
   for (const PersonDetection& candidate : candidates) {
