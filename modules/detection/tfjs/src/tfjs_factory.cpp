@@ -44,6 +44,14 @@ class ExtraReader {
       throw Error("detector option '" + key + "': '" + it->second + "' is not a number");
     *value = static_cast<T>(parsed);
   }
+  // A switch: 0 or 1 (a number would silently turn any other value into "on").
+  void flag(const std::string& key, bool* value) const {
+    double parsed = *value ? 1 : 0;
+    number(key, &parsed);
+    if (parsed != 0 && parsed != 1)
+      throw Error("detector option '" + key + "': expected 0 or 1, got '" + extra_.at(key) + "'");
+    *value = parsed == 1;
+  }
 
  private:
   const DetectorExtraOptions& extra_;
@@ -54,7 +62,7 @@ SelfieSegmenter::Options selfieOptions(const ExtraReader& r) {
   r.text("selfie.model", &o.model_json);
   r.number("selfie.threshold", &o.mask_threshold);
   r.number("selfie.min_area", &o.min_area_fraction);
-  r.number("selfie.square_crops", &o.square_crops);
+  r.flag("selfie.square_crops", &o.square_crops);
   r.number("selfie.min_score", &o.min_score);
   return o;
 }
@@ -95,9 +103,9 @@ std::unique_ptr<HumanDetector> createLearnedDetector(const DetectorExtraOptions&
   r.number("learned.min_keypoints", &o.min_pose_keypoints);
   r.number("learned.max_component", &o.max_component_fraction);
   r.text("learned.segmenter", &o.segmenter);
-  r.number("learned.crop_masks", &o.crop_masks);
+  r.flag("learned.crop_masks", &o.crop_masks);
   r.number("learned.crop_size", &o.crop.input_size);
-  r.number("learned.candidate_poses", &o.candidate_poses);
+  r.flag("learned.candidate_poses", &o.candidate_poses);
   return std::make_unique<LearnedPersonDetector>(o);
 }
 

@@ -389,6 +389,9 @@ TEST(LearnedDetectors, FactoryKnowsTheLearnedBackendsAndChecksTheirOptions) {
   DetectorOptions not_a_flag;
   not_a_flag.extra["learned.crop_masks"] = "yes";
   EXPECT_THROW(createHumanDetector("learned", not_a_flag), Error);
+  DetectorOptions not_a_switch;
+  not_a_switch.extra["learned.candidate_poses"] = "2";
+  expectErrorNaming([&] { createHumanDetector("learned", not_a_switch); }, "expected 0 or 1");
   DetectorOptions bad_segmenter;
   bad_segmenter.extra["learned.segmenter"] = "sam";
   expectErrorNaming([&] { createHumanDetector("learned", bad_segmenter); }, "'sam'");
