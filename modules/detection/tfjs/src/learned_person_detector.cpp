@@ -170,8 +170,6 @@ LearnedPersonDetector::LearnedPersonDetector(const Options& options) : options_(
   if (options_.whole_pose_keypoints < 1) throw Error("learned detector: whole_pose_keypoints must be at least 1");
   if (options_.crop_candidate_min_area < 0) throw Error("learned detector: crop_candidate_min_area must be at least 0");
   if (options_.candidate_pose_min_area < 0) throw Error("learned detector: candidate_pose_min_area must be at least 0");
-  if (!(options_.candidate_pose_min_iou >= 0 && options_.candidate_pose_min_iou <= 1))
-    throw Error("learned detector: candidate_pose_min_iou must be in [0, 1]");
   if (options_.segmenter == "selfie") {
     selfie_ = std::make_unique<SelfieSegmenter>(options_.selfie);
   } else if (options_.segmenter == "rvm") {
@@ -245,7 +243,7 @@ void LearnedPersonDetector::findCandidatePoses(const cv::Mat& bgr, const std::ve
   for (const PersonDetection& candidate : candidates) {
     if (cv::countNonZero(candidate.mask) < options_.candidate_pose_min_area) continue;
     PersonDetection pose;
-    if (candidate_pose_->find(bgr, candidate.box, options_.candidate_pose_min_iou, &pose) &&
+    if (candidate_pose_->find(bgr, candidate.box, &pose) &&
         confidentKeypoints(pose, options_.keypoint_min_score) >= options_.min_pose_keypoints)
       poses_.push_back(std::move(pose));
   }

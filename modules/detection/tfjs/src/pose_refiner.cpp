@@ -51,12 +51,12 @@ PoseRefiner::~PoseRefiner() = default;
 
 bool PoseRefiner::refine(const cv::Mat& bgr, const PersonBox& box, std::vector<Keypoint2d>* keypoints) {
   PersonDetection person;
-  if (!find(bgr, box, options_.min_iou, &person)) return false;
+  if (!find(bgr, box, &person)) return false;
   *keypoints = std::move(person.keypoints);
   return true;
 }
 
-bool PoseRefiner::find(const cv::Mat& bgr, const PersonBox& box, double min_iou, PersonDetection* person) {
+bool PoseRefiner::find(const cv::Mat& bgr, const PersonBox& box, PersonDetection* person) {
   if (bgr.empty() || bgr.type() != CV_8UC3) throw Error("pose refiner: expected a non-empty 8-bit BGR image");
   if (box.empty()) return false;
   const cv::Rect crop = refinementCropPixels(box, options_.margin);
@@ -65,7 +65,7 @@ bool PoseRefiner::find(const cv::Mat& bgr, const PersonBox& box, double min_iou,
   const Detections found = movenet_->detect(view);
   const PersonBox expected{box.x_ul - crop.x, box.y_ul - crop.y, box.x_lr - crop.x, box.y_lr - crop.y};
   const PersonDetection* best = nullptr;
-  float best_iou = static_cast<float>(min_iou);
+  float best_iou = static_cast<float>(options_.min_iou);
   for (const PersonDetection& candidate : found.people) {
     const float o = overlap(candidate.box, expected);
     if (o >= best_iou && !candidate.keypoints.empty()) best = &candidate, best_iou = o;

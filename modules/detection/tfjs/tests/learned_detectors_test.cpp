@@ -324,13 +324,15 @@ TEST(LearnedDetectors, CombinedGivesEachPersonMaskAndKeypointsAndCarriesThem) {
 // under them is only a candidate; on a crop around that candidate MoveNet finds the pose, and the person
 // gets the mask (options.candidate_poses).
 TEST(LearnedDetectors, CandidatePosesFindThePersonCloseToTheLens) {
-  LearnedPersonDetector::Options bad_iou, bad_area;
-  bad_iou.candidate_pose_min_iou = 1.5;
+  LearnedPersonDetector::Options bad_area;
   bad_area.candidate_pose_min_area = -1;
-  expectErrorNaming([&] { LearnedPersonDetector d(bad_iou); }, "candidate_pose_min_iou");
   expectErrorNaming([&] { LearnedPersonDetector d(bad_area); }, "candidate_pose_min_area");
   if (!humanModelAvailable("selfie") || !humanModelAvailable("movenet-multipose"))
     GTEST_SKIP() << "no models; run scripts/fetch_models.sh";
+  LearnedPersonDetector::Options bad_iou;
+  bad_iou.candidate_poses = true;
+  bad_iou.candidate_pose.min_iou = 1.5;
+  expectErrorNaming([&] { LearnedPersonDetector d(bad_iou); }, "min_iou");
   SyntheticSequence::Options synth;
   synth.camera = CameraMotion::kStatic;
   const SyntheticSequence sequence(synth);

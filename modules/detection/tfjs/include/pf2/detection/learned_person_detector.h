@@ -74,17 +74,19 @@ class LearnedPersonDetector : public HumanDetector {
     // least candidate_pose_min_area pixels, on the frames MoveNet runs: MoveNet on a square crop
     // around the candidate (PoseRefiner), where a person close to the lens or cut by the border
     // fills the input as the network expects. A pose found there with min_pose_keypoints confident
-    // keypoints, overlapping the candidate's box by candidate_pose_min_iou, becomes a person.
+    // keypoints becomes a person.
     bool candidate_poses = false;
     int candidate_pose_min_area = 4000;     // pixels, >= 0
-    double candidate_pose_min_iou = 0.3;    // [0, 1]
-    PoseRefiner::Options candidate_pose;
+    // The crop's look: PoseRefiner's input (192) and margin (0.1), but a pose need overlap the
+    // candidate's box only by 0.3, not 0.5: the pose's box of a person cut by the border reaches
+    // beyond the image, where the candidate's box stops.
+    PoseRefiner::Options candidate_pose{192, 0.1, 0.3};
   };
 
   // Loads both models (and the crop model with crop_masks). Throws pf2::Error naming a
   // missing/unreadable model, an unknown segmenter, or if pose_every, min_pose_keypoints or
-  // whole_pose_keypoints < 1, crop_candidate_min_area or candidate_pose_min_area < 0, or
-  // candidate_pose_min_iou is outside [0, 1].
+  // whole_pose_keypoints < 1, crop_candidate_min_area or candidate_pose_min_area < 0, or (with
+  // candidate_poses) candidate_pose out of PoseRefiner's ranges.
   explicit LearnedPersonDetector(const Options& options);
   ~LearnedPersonDetector() override;
 

@@ -32,10 +32,10 @@ class PoseRefiner {
   // false, and *keypoints untouched, when the crop shows no pose overlapping the box by min_iou.
   // NOT thread safe (the network keeps buffers); one refiner per thread.
   bool refine(const cv::Mat& bgr, const PersonBox& box, std::vector<Keypoint2d>* keypoints);
-  // The pose the crop around `box` shows that overlaps the box most (by at least `min_iou`), with
+  // The pose the crop around `box` shows that overlaps the box most (by at least min_iou), with
   // its box, keypoints and MoveNet score in image pixels; false, and *person untouched, when there
   // is none. NOT thread safe, as refine.
-  bool find(const cv::Mat& bgr, const PersonBox& box, double min_iou, PersonDetection* person);
+  bool find(const cv::Mat& bgr, const PersonBox& box, PersonDetection* person);
 
  private:
   Options options_;
