@@ -9,7 +9,8 @@
 # Prints recall (person depth removed), precision and retention (static depth kept). pf2_slam also
 # runs with the learned detector's crop masks (detector.crop_masks), with video matting as its mask
 # (detector.segmenter rvm), and with both and what the rules beside the masks take given to the
-# map alone (--preset offline), that also without the geometric addition.
+# map alone (--preset offline), that also without the geometric addition; and without the
+# geometric addition with the detector's second look at its candidates (detector.candidate_poses).
 #
 # Usage: bench/filters/learned_removal_benchmark.sh [BUILD_DIR] [WORK_DIR] [FRAMES] [SEED]
 set -euo pipefail
@@ -61,6 +62,8 @@ for spec in "${cases[@]}"; do
   misalign=0
   [[ "$name" == *misalign3* ]] && misalign=3
   slam_row "$name" "$sequence" "pf2_slam, no geometric" "$misalign" --set filter.geometric=false
+  slam_row "$name" "$sequence" "pf2_slam, no geometric, candidate poses" "$misalign" --set filter.geometric=false \
+    --set detector.candidate_poses=true
   slam_row "$name" "$sequence" "pf2_slam" "$misalign"
   slam_row "$name" "$sequence" "pf2_slam, crop masks" "$misalign" --set detector.crop_masks=true
   slam_row "$name" "$sequence" "pf2_slam, rvm matte" "$misalign" --set detector.segmenter=rvm
