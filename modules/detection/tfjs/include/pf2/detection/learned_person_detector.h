@@ -77,10 +77,14 @@ class LearnedPersonDetector : public HumanDetector {
     // keypoints becomes a person.
     bool candidate_poses = false;
     int candidate_pose_min_area = 4000;     // pixels, >= 0
-    // The crop's look: PoseRefiner's input (192) and margin (0.1), but a pose need overlap the
-    // candidate's box only by 0.3, not 0.5: the pose's box of a person cut by the border reaches
-    // beyond the image, where the candidate's box stops.
-    PoseRefiner::Options candidate_pose{192, 0.1, 0.3};
+    // The crop's look: PoseRefiner's input and margin, but a pose need overlap the candidate's box
+    // only by 0.3, not 0.5: the pose's box of a person cut by the border reaches beyond the image,
+    // where the candidate's box stops.
+    PoseRefiner::Options candidate_pose = [] {
+      PoseRefiner::Options o;
+      o.min_iou = 0.3;
+      return o;
+    }();
   };
 
   // Loads both models (and the crop model with crop_masks). Throws pf2::Error naming a
