@@ -9,7 +9,7 @@ namespace pf2 {
 namespace {
 
 TEST(CameraMotion, NamesRoundTripAndUnknownNamesThrow) {
-  for (const char* name : {"static", "xyz", "halfsphere", "rpy", "loop"}) {
+  for (const char* name : {"static", "xyz", "halfsphere", "rpy", "loop", "above"}) {
     EXPECT_STREQ(cameraMotionName(cameraMotionFromName(name)), name);
   }
   EXPECT_THROW(cameraMotionFromName("circle"), Error);
@@ -44,9 +44,20 @@ TEST(CameraMotion, LoopReturnsToItsStartAndTravelsFar) {
   EXPECT_GT(length, 6.0);
 }
 
+TEST(CameraMotion, AboveLooksDownAtTheFloorFromHigh) {
+  for (double t = 0.0; t < 15.0; t += 0.5) {
+    const Eigen::Isometry3d T_w_c = cameraPoseAt(CameraMotion::kAbove, t, 15.0);
+    EXPECT_NEAR(T_w_c.translation().z(), 2.4, 1e-9);
+    // The optical axis points 35-50 degrees below the horizon.
+    const double down = std::asin(-T_w_c.linear().col(2).z()) * 180.0 / M_PI;
+    EXPECT_GT(down, 35.0) << t;
+    EXPECT_LT(down, 50.0) << t;
+  }
+}
+
 TEST(CameraMotion, EveryMotionIsSmoothAndLooksIntoTheRoom) {
   for (const auto motion : {CameraMotion::kStatic, CameraMotion::kXyz, CameraMotion::kHalfsphere,
-                            CameraMotion::kRpy, CameraMotion::kLoop}) {
+                            CameraMotion::kRpy, CameraMotion::kLoop, CameraMotion::kAbove}) {
     for (double t = 0.0; t < 15.0; t += 1.0 / 30.0) {
       const Eigen::Isometry3d a = cameraPoseAt(motion, t, 15.0);
       const Eigen::Isometry3d b = cameraPoseAt(motion, t + 1.0 / 30.0, 15.0);

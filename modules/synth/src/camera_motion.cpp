@@ -22,7 +22,8 @@ CameraMotion cameraMotionFromName(const std::string& name) {
   if (name == "halfsphere") return CameraMotion::kHalfsphere;
   if (name == "rpy") return CameraMotion::kRpy;
   if (name == "loop") return CameraMotion::kLoop;
-  throw Error("unknown camera motion '" + name + "' (expected static, xyz, halfsphere, rpy or loop)");
+  if (name == "above") return CameraMotion::kAbove;
+  throw Error("unknown camera motion '" + name + "' (expected static, xyz, halfsphere, rpy, loop or above)");
 }
 
 const char* cameraMotionName(CameraMotion motion) {
@@ -32,6 +33,7 @@ const char* cameraMotionName(CameraMotion motion) {
     case CameraMotion::kHalfsphere: return "halfsphere";
     case CameraMotion::kRpy: return "rpy";
     case CameraMotion::kLoop: return "loop";
+    case CameraMotion::kAbove: return "above";
   }
   return "?";
 }
@@ -97,6 +99,15 @@ Eigen::Isometry3d cameraPoseAt(CameraMotion motion, double t, double duration) {
                                      1.45 + 0.02 * std::sin(4.0 * theta + kPi / 2.0) - 0.02);
       const Eigen::Vector3d target(3.0 + 1.3 * std::sin(2.0 * kPi * t / period), 3.8,
                                    0.85 + 0.15 * std::sin(4.0 * kPi * t / period));
+      return lookAt(position, target);
+    }
+    case CameraMotion::kAbove: {
+      // 2 m above the floor point it looks at, 2.1 m back from it: 44 degrees down, so people's
+      // heads and shoulders face the camera rather than their fronts. Slow pan (±0.9 m at the
+      // floor) and drift (±0.4 m sideways, ±0.1 m back and forth), as a robot's mast camera.
+      const Eigen::Vector3d position(3.0 + 0.4 * std::sin(2.0 * kPi * t / 12.0),
+                                     0.5 + 0.1 * std::sin(2.0 * kPi * t / 8.0), 2.4);
+      const Eigen::Vector3d target(3.0 + 0.9 * std::sin(2.0 * kPi * t / 9.0 + 0.5), 2.6, 0.4);
       return lookAt(position, target);
     }
   }

@@ -13,7 +13,7 @@ void declareSynthSettings(SyntheticSequence::Options* o, Settings* settings) {
   s.seed("synth.seed", &o->seed, "scene textures, people and noise; same seed, same bytes");
   s.custom(
       "synth.camera", [o](const std::string& text) { o->camera = cameraMotionFromName(text); },
-      [o] { return std::string(cameraMotionName(o->camera)); }, "static, xyz, halfsphere, rpy, loop",
+      [o] { return std::string(cameraMotionName(o->camera)); }, "static, xyz, halfsphere, rpy, loop, above",
       "camera motion");
   s.boolean("synth.noise", &o->sensor.noise,
             "Kinect depth noise, quantisation, holes and range 0.4-4.5 m (false: exact depth)");
