@@ -78,7 +78,7 @@ const char* kUsage =
     "                       (default: every frame, as fast as the machine goes)\n"
     "Built-in sequence:\n"
     "  --synth-frames N     frames (default 300)   --synth-people K  people 0..5 (default 3)\n"
-    "  --synth-camera M     static|xyz|halfsphere|rpy|loop (default xyz)   --seed S (default 1)\n"
+    "  --synth-camera M     static|xyz|halfsphere|rpy|loop|above (default xyz)   --seed S (default 1)\n"
     "  -h, --help           this text\n";
 
 // kUsage and the presets, each with its meaning and settings (declared once, in slamPresets()).

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Person removal with the project's own detector (learned), per hard case: pf2_synth sequences with
 # three people (a seated person and people cut by the border in the static view, every camera
-# motion, depth misaligned 3 px with motion blur, people close to the camera). Rows: pf2_slam
+# motion, depth misaligned 3 px with motion blur, people close to the camera, people seen from a
+# camera 2.4 m high). Rows: pf2_slam
 # itself (its --masks, scored by pf2_removal_score) with and without the geometric addition (the
 # keyframes' prediction, candidates, keep_static); and pf2_detect's filter runs: the paper's
 # filter, pf2_slam's filter settings without and with pf2_detect's stand-in for the prediction
@@ -54,6 +55,7 @@ echo "| --- | --- | --- | --- | --- | --- |"
 cases=("static:--camera static" "xyz:--camera xyz" "halfsphere:--camera halfsphere" "rpy:--camera rpy"
        "xyz_misalign3_blur:--camera xyz --misalign 3 --blur")
 "$build/apps/pf2_synth" -h | grep -q -- '--close' && cases+=("close_xyz:--camera xyz --close")
+"$build/apps/pf2_synth" -h | grep -q -- '| above' && cases+=("above:--camera above")
 slam_filter=(--set filter.use_mask=true --set filter.mask_reach=20 --set filter.temporal=true)
 for spec in "${cases[@]}"; do
   name="${spec%%:*}"

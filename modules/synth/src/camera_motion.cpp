@@ -102,7 +102,7 @@ Eigen::Isometry3d cameraPoseAt(CameraMotion motion, double t, double duration) {
       return lookAt(position, target);
     }
     case CameraMotion::kAbove: {
-      // 2 m above the floor point it looks at, 2.1 m back from it: 44 degrees down, so people's
+      // 2 m above the floor point it looks at, 2.1 m back from it: 38-45 degrees down, so people's
       // heads and shoulders face the camera rather than their fronts. Slow pan (±0.9 m at the
       // floor) and drift (±0.4 m sideways, ±0.1 m back and forth), as a robot's mast camera.
       const Eigen::Vector3d position(3.0 + 0.4 * std::sin(2.0 * kPi * t / 12.0),

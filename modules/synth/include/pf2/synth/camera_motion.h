@@ -14,7 +14,7 @@ enum class CameraMotion {
   kHalfsphere,  // moves on a 0.5 m radius half sphere, always looking at the desk
   kRpy,         // rotations about the camera's own axes (roll, pitch, yaw; +-20 degrees) in place
   kLoop,        // walks an ellipse (3 x 0.6 m) in front of the room and returns to its start
-  kAbove,       // mounted high (2.4 m, a robot's mast or a wall bracket), looking down about 45
+  kAbove,       // mounted high (2.4 m, a robot's mast or a wall bracket), looking down 38-45
                 // degrees at the floor while it pans and drifts slowly: people seen from above
 };
 
