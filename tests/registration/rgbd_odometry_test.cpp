@@ -123,6 +123,18 @@ TEST_F(RenderedPair, PersonMaskKeepsAMovingOccluderOut) {
   EXPECT_LT(rotationErrorDeg(result.T_ref_cur, T_ref_cur_true), 0.05);
 }
 
+TEST_F(RenderedPair, PreparingLeavesTheCallersPersonMaskAsItWas) {
+  cv::Mat mask(cur.depth.size(), CV_8U, cv::Scalar(0));
+  mask(cv::Rect(200, 60, 180, 400)).setTo(255);
+  const cv::Mat before = mask.clone();
+  RgbdOdometry::Options options;
+  options.person_mask_dilation = 6;
+  const OdometryFrame frame = RgbdOdometry(options).prepare(cur, mask);
+  // The frame leaves the dilated mask out (6 px beside the rectangle), the caller keeps its own.
+  EXPECT_EQ(frame.levels[0].depth.at<float>(260, 200 - 6 + 1), 0.f);
+  EXPECT_EQ(cv::countNonZero(mask != before), 0);
+}
+
 // A person nobody removed, 0.75 m from the camera in the reference and 0.70 m in the current
 // frame (a step towards it), in front of a room 2-4 m away. Under the z^2 noise model all the way
 // down, their points would weigh 10-30 times the room's each and pull the pose along.
