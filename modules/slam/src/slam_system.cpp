@@ -112,6 +112,7 @@ class SlamSystem::Pipeline {
         stats_(stats),
         removal_(detector ? std::make_unique<PersonRemoval>(removalOptions(options), std::move(detector)) : nullptr),
         prediction_(predictionOptions(options)),
+        backfill_(options.backfill),
         tracker_(options.tracker),
         mapper_(std::make_shared<Mapper>(options.mapper)),
         humans_(options.humans),
@@ -166,10 +167,7 @@ class SlamSystem::Pipeline {
       std::vector<FrameResult::Person> people;
       if (track_humans_) people = placePeople(frame, detections, filtered, result, &record);
       count(result, &record);
-      // A bridged pose is the motion prior's guess: good enough to place people for a moment,
-      // not to fuse depth into the map.
-      if (mapping_ && record.has_pose && result.status != TrackStatus::kBridged)
-        feedMap(frame, static_frame.depth, result, summary_.frames);
+      holdForMap(frame, static_frame.depth, filtered, detections, result, record);
       out = frameResult(frame, static_frame.depth, filtered.removed, result, record, std::move(people));
       records_.push_back(std::move(record));
       intrinsics_ = frame.intrinsics;
@@ -182,6 +180,7 @@ class SlamSystem::Pipeline {
   // Waits for the back end and the map; the final poses, tracks and figures.
   SlamResult finish() {
     finished_ = true;
+    backfill_.flush();
     tracker_.finish();
     if (mapping_) mapping_->finish();
     // Final poses: each frame hangs off its keyframe, whose pose the back end may have corrected.
@@ -320,7 +319,6 @@ class SlamSystem::Pipeline {
     }
     *filtered = removal_->filter(frame, detections, T_cur_prev, prediction, stats_, floor_c);
     static_frame->depth = filtered->static_depth;
-    if (!masks_dir_.empty()) writeMask(frame.timestamp, filtered->removed);
   }
 
   // The floor as a plane of camera T_w_c: a point p_c lies up_w . (R p_c + t) - height above it.
@@ -464,19 +462,72 @@ class SlamSystem::Pipeline {
     if (result.status == TrackStatus::kBridged) ++summary->bridged;
   }
 
+  // The frame's depth for the map and its mask wait in backfill_ for the people that later frames
+  // find (RemovalBackfill); this frame's people, found with a mask, are carried back into the
+  // frames waiting before it. A bridged pose is the motion prior's guess: good enough to place
+  // people for a moment, not to fuse depth into the map or to carry people by.
+  void holdForMap(const Frame& frame, const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered,
+                  const Detections& detections, const TrackResult& result, const FrameRecord& record) {
+    const bool measured = record.has_pose && result.status != TrackStatus::kBridged;
+    const bool waits = options_.backfill.frames > 0;
+    RemovalBackfill::Frame held;
+    // The live result shares these images: a frame that waits gets its own copies to change.
+    held.depth = waits ? static_depth.clone() : static_depth;
+    held.removed = filtered.removed.empty() ? cv::Mat::zeros(static_depth.size(), CV_8U)
+                                            : (waits ? filtered.removed.clone() : filtered.removed);
+    if (measured) held.T_w_c = result.T_w_c;
+    held.intrinsics = frame.intrinsics;
+    const bool fuse = mapping_ && measured && fusedFrame(result, summary_.frames);
+    held.release = [this, timestamp = frame.timestamp, fuse, rgb = fuse ? frame.rgb : cv::Mat(), result,
+                    frame_number = summary_.frames](const RemovalBackfill::Frame& done) {
+      if (removal_ && !masks_dir_.empty()) writeMask(timestamp, done.removed);
+      if (fuse) feedMap(rgb, done.intrinsics, done.depth, result, frame_number);
+    };
+    RemovalBackfill::Points people_w;
+    if (removal_ && waits && measured) {
+      std::optional<std::pair<Eigen::Vector3d, double>> floor;
+      if (floor_.found()) floor = std::make_pair(up_.up_w(), floor_.height());
+      people_w = backfill_.personPoints(carriedPeople(filtered, detections, frame.depth.size()), frame.intrinsics,
+                                        result.T_w_c, floor);
+    }
+    backfill_.push(std::move(held), people_w);
+  }
+
+  // The depth (CV_32F metres, 0 elsewhere) of the people carried back in time: those found with a
+  // mask and a confident pose, on their own mask, within their keypoints' depth band (the body
+  // fit's depth). Boxes without a mask, the rules beside the masks and a mask's spill onto what
+  // stands behind a person take background too, which would then go from the frames before.
+  cv::Mat carriedPeople(const DualBBoxFilter::Result& filtered, const Detections& detections,
+                        const cv::Size& size) const {
+    cv::Mat people = cv::Mat::zeros(size, CV_32F);
+    for (const DualBBoxFilter::Person& person : ownParts(filtered.people, detections, options_)) {
+      if (person.detection < 0 || person.detection >= static_cast<int>(detections.people.size())) continue;
+      const PersonDetection& detection = detections.people[person.detection];
+      if (detection.mask.empty() || detection.score <= options_.filter.min_confidence) continue;
+      const BodyDepthBand band = keypointDepthBand(person, detection, options_, cv::countNonZero(person.mask));
+      if (band.empty()) continue;
+      const cv::Mat body = bodyDepth(person, band);
+      cv::Mat area = people(person.area);
+      body.copyTo(area, detection.mask(person.area) & (body > 0.f));
+    }
+    return people;
+  }
+
   // A new keyframe, or every fuse_every-th frame, goes to the mapping thread.
-  void feedMap(const Frame& frame, const cv::Mat& static_depth, const TrackResult& result, int frame_number) {
-    const bool in_between = options_.fuse_every > 0 && frame_number % options_.fuse_every == 0;
-    if (!result.keyframe_created && !in_between) return;
+  bool fusedFrame(const TrackResult& result, int frame_number) const {
+    return result.keyframe_created || (options_.fuse_every > 0 && frame_number % options_.fuse_every == 0);
+  }
+  void feedMap(const cv::Mat& rgb, const CameraIntrinsics& intrinsics, const cv::Mat& static_depth,
+               const TrackResult& result, int frame_number) {
     const int id = result.keyframe_created ? result.keyframe_id : kFusedFrameIds + frame_number;
-    mapping_->push({id, result.keyframe_id, result.T_k_c, static_depth, frame.rgb, frame.intrinsics,
-                    result.T_w_c});
+    mapping_->push({id, result.keyframe_id, result.T_k_c, static_depth, rgb, intrinsics, result.T_w_c});
   }
 
   const SlamOptions& options_;
   StageStats* stats_;
   std::unique_ptr<PersonRemoval> removal_;  // null without a detector
   KeyframeDepthPrediction prediction_;
+  RemovalBackfill backfill_;
   std::string masks_dir_;  // empty: no masks written
   Tracker tracker_;
   std::shared_ptr<Mapper> mapper_;

@@ -17,6 +17,7 @@
 #include "pf2/registration/tracker.h"
 #include "pf2/registration/trajectory_smoother.h"
 #include "pf2/slam/keyframe_prediction.h"
+#include "pf2/slam/removal_backfill.h"
 #include "pf2/slam/scene_export.h"
 #include "pf2/surface/mapper.h"
 
@@ -57,6 +58,10 @@ struct SlamOptions {
   // more of the static depth kept, 0.05-0.15 fewer of the people removed; Bonn crowd 1.42 cm
   // either way (docs/BENCHMARKS.md). 0 = off.
   double floor_margin = 0.03;
+  // Person removal carried back in time (RemovalBackfill): the map and masks/ get each frame
+  // `backfill.frames` frames late, with the people found in those later frames removed from it
+  // too; the tracker and the live results never wait. 0 frames = off.
+  RemovalBackfill::Options backfill;
   Tracker::Options tracker;
   // trajectory.txt's positions smoothed over time at the end of the run (TrajectorySmoother);
   // the map, the people and the live poses use the poses as measured.

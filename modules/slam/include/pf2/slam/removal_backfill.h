@@ -1,0 +1,82 @@
+#pragma once
+// Person removal carried back in time, for the map and the masks. A person the detector finds
+// only now was often in the frames before as well: standing at the border until the camera's pan
+// showed enough of them, seated before MoveNet found them, seen from above. Each frame waits
+// Options::frames frames before it goes to the map; meanwhile the depth of every person found
+// with a mask in a later frame is moved into it (with the tracked poses), and its depth that lies
+// within Options::tolerance of a moved point is removed. Who stood still is removed where they
+// stood; who moved since puts their points where the frame saw free space or the scene behind
+// them, farther away, and removes nothing. Points near the floor are not carried back: a person's
+// feet touch the floor where they will stand.
+//
+// The tracker never waits: it has its frames' depth as the filter left it. Only the map's depth
+// and the written masks are finished later. NOT thread safe.
+#include <deque>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "pf2/core/camera_intrinsics.h"
+
+namespace pf2 {
+
+class RemovalBackfill {
+ public:
+  struct Options {
+    int frames = 30;               // frames a frame waits for the people found after it, in
+                                   // [0, 300]; 0 = off (each frame released at once)
+    double tolerance = 0.05;       // metres, plus 1 % of the depth: a later person's point this
+                                   // close to a waiting frame's depth removes it, in [0.005, 0.5]
+    double floor_clearance = 0.1;  // metres: a person's points lower above the floor are not
+                                   // carried back, in [0, 1]
+  };
+
+  // A frame waiting for the map. depth and removed are filled in as later frames' people arrive,
+  // so they must not share data with images someone else still reads.
+  struct Frame {
+    cv::Mat depth;    // CV_32F metres: the static depth for the map (0 = removed or none)
+    cv::Mat removed;  // CV_8U, 255 where depth was removed as a person's
+    std::optional<Eigen::Isometry3d> T_w_c;  // none: nothing is carried into this frame
+    CameraIntrinsics intrinsics;
+    std::function<void(const Frame&)> release;  // called once, when the frame leaves the window
+  };
+
+  // Points of the people in one frame, world frame (metres).
+  using Points = std::vector<Eigen::Vector3f>;
+
+  RemovalBackfill() : RemovalBackfill(Options()) {}
+  // Throws pf2::Error naming the option when one is out of range.
+  explicit RemovalBackfill(const Options& options);
+
+  // Carries people_w into every waiting frame, adds `frame` and releases (oldest first) the frames
+  // that have waited Options::frames frames. Throws pf2::Error when frame.depth is not CV_32F or
+  // frame.removed not CV_8U of its size.
+  void push(Frame frame, const Points& people_w);
+  // Releases every waiting frame, oldest first (the end of a run).
+  void flush();
+  size_t waiting() const { return waiting_.size(); }
+
+  // Every `stride`-th pixel and row of people_depth (CV_32F metres, 0 = not a person's) as world
+  // points, leaving out those within floor_clearance of the floor (up_w . p - floor_height below
+  // it, `floor` = (up_w, floor_height)) when the floor is known.
+  Points personPoints(const cv::Mat& people_depth, const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& T_w_c,
+                      const std::optional<std::pair<Eigen::Vector3d, double>>& floor, int stride = 2) const;
+
+  const Options& options() const { return options_; }
+
+ private:
+  struct Waiting {
+    Frame frame;
+    cv::Mat hits;  // CV_8U, 255 where a later person's point met this frame's depth
+  };
+  void carryInto(const Points& people_w, Waiting* waiting) const;
+  void release(Waiting* waiting) const;
+
+  Options options_;
+  std::deque<Waiting> waiting_;
+};
+
+}  // namespace pf2
