@@ -11,10 +11,14 @@ namespace pf2 {
 
 namespace {
 
-// Moved points land one every `stride` pixels at most; a disc of this radius closes the gaps
-// between them (pf2_synth, stride 2: 1 px left a tenth of the gain, 2 px cost 0.1 point of the
-// static depth).
+// Moved points land about one every kStride pixels; a disc of this radius closes the gaps between
+// them (an estimate on pf2_synth with every second pixel: 1 px left a tenth of the gain).
 constexpr int kHitDilation = 2;
+// A waiting frame where no more than this share of the points in its view meet its depth or its
+// removed pixels did not have the people there; after kIdleFrames such frames in a row the older
+// ones are not tried.
+constexpr double kMinHitShare = 0.02;
+constexpr int kIdleFrames = 2;
 // Points closer to a waiting camera than this are behind or at its lens.
 constexpr float kMinDepth = 0.1f;
 
@@ -35,14 +39,23 @@ void RemovalBackfill::push(Frame frame, const Points& people_w) {
     throw Error("RemovalBackfill::push: depth must be CV_32F and removed CV_8U of the same size");
   }
   if (!people_w.empty()) {
-    for (Waiting& waiting : waiting_) carryInto(people_w, &waiting);
+    // Newest first; once two frames in a row had (next to) none of the people where they are now
+    // (neither removed nor measured there), the people have moved since and the older frames would
+    // take nothing either.
+    int idle = 0;
+    for (auto it = waiting_.rbegin(); it != waiting_.rend() && idle < kIdleFrames; ++it) {
+      idle = carryInto(people_w, &*it) ? 0 : idle + 1;
+    }
   }
+  ++pushed_;
   waiting_.push_back({std::move(frame), cv::Mat()});
   while (waiting_.size() > static_cast<size_t>(options_.frames)) {
     release(&waiting_.front());
     waiting_.pop_front();
   }
 }
+
+bool RemovalBackfill::carriesNext() const { return options_.frames > 0 && pushed_ % kCarryEvery == 0; }
 
 void RemovalBackfill::flush() {
   while (!waiting_.empty()) {
@@ -70,23 +83,39 @@ RemovalBackfill::Points RemovalBackfill::personPoints(
   return points;
 }
 
-void RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const {
+bool RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const {
   const Frame& frame = waiting->frame;
-  if (!frame.T_w_c) return;
-  const Eigen::Isometry3f T_c_w = frame.T_w_c->inverse().cast<float>();
+  if (!frame.T_w_c) return false;
+  // One 3x4 product per point: rows 0-1 give the pixel times the depth, row 2 the depth.
   const CameraIntrinsics& k = frame.intrinsics;
+  Eigen::Matrix3f K;
+  K << static_cast<float>(k.fx), 0.f, static_cast<float>(k.cx), 0.f, static_cast<float>(k.fy),
+      static_cast<float>(k.cy), 0.f, 0.f, 1.f;
+  const Eigen::Isometry3f T_c_w = frame.T_w_c->inverse().cast<float>();
+  const Eigen::Matrix3f A = K * T_c_w.linear();
+  const Eigen::Vector3f b = K * T_c_w.translation();
   const float tolerance = static_cast<float>(options_.tolerance);
+  const float max_u = static_cast<float>(frame.depth.cols) - 0.5f, max_v = static_cast<float>(frame.depth.rows) - 0.5f;
+  size_t in_view = 0, met = 0;
   for (const Eigen::Vector3f& p_w : people_w) {
-    const Eigen::Vector3f p = T_c_w * p_w;
-    if (p.z() < kMinDepth) continue;
-    const int u = static_cast<int>(std::lround(k.fx * p.x() / p.z() + k.cx));
-    const int v = static_cast<int>(std::lround(k.fy * p.y() / p.z() + k.cy));
-    if (u < 0 || v < 0 || u >= frame.depth.cols || v >= frame.depth.rows) continue;
-    const float d = frame.depth.at<float>(v, u);
-    if (!(d > 0.f) || std::abs(d - p.z()) >= tolerance + 0.01f * p.z()) continue;
+    const Eigen::Vector3f q = A * p_w + b;
+    const float z = q.z();
+    if (z < kMinDepth) continue;
+    const float u = q.x() / z, v = q.y() / z;
+    if (!(u >= -0.5f && v >= -0.5f && u < max_u && v < max_v)) continue;
+    const int iu = static_cast<int>(u + 0.5f), iv = static_cast<int>(v + 0.5f);  // nearest pixel
+    ++in_view;
+    if (frame.removed.ptr<uint8_t>(iv)[iu]) {  // removed already: the person was there, found then
+      ++met;
+      continue;
+    }
+    const float d = frame.depth.ptr<float>(iv)[iu];
+    if (!(d > 0.f) || std::abs(d - z) >= tolerance + 0.01f * z) continue;
     if (waiting->hits.empty()) waiting->hits = cv::Mat::zeros(frame.depth.size(), CV_8U);
-    waiting->hits.at<uint8_t>(v, u) = 255;
+    waiting->hits.ptr<uint8_t>(iv)[iu] = 255;
+    ++met;
   }
+  return met > kMinHitShare * in_view;
 }
 
 void RemovalBackfill::release(Waiting* waiting) const {

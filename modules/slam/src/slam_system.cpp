@@ -468,6 +468,7 @@ class SlamSystem::Pipeline {
   // people for a moment, not to fuse depth into the map or to carry people by.
   void holdForMap(const Frame& frame, const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered,
                   const Detections& detections, const TrackResult& result, const FrameRecord& record) {
+    ScopedStageTimer timer(stats_, "backfill");
     const bool measured = record.has_pose && result.status != TrackStatus::kBridged;
     const bool waits = options_.backfill.frames > 0;
     RemovalBackfill::Frame held;
@@ -484,7 +485,7 @@ class SlamSystem::Pipeline {
       if (fuse) feedMap(rgb, done.intrinsics, done.depth, result, frame_number);
     };
     RemovalBackfill::Points people_w;
-    if (removal_ && waits && measured) {
+    if (removal_ && measured && backfill_.carriesNext()) {
       std::optional<std::pair<Eigen::Vector3d, double>> floor;
       if (floor_.found()) floor = std::make_pair(up_.up_w(), floor_.height());
       people_w = backfill_.personPoints(carriedPeople(filtered, detections, frame.depth.size()), frame.intrinsics,
