@@ -28,7 +28,7 @@ class RemovalBackfill {
   // The people of every kCarryEvery-th frame are carried back, every kStride-th pixel and row of
   // them: carrying costs a point's projection per waiting frame (8 ms a frame on the Bonn crowd
   // frames with every frame's people and every second pixel, 2.3 ms with these; the six pf2_synth
-  // hard cases keep 70-90 % of the gain in the people's depth).
+  // hard cases keep 55-90 % of the gain in the people's depth, and lose less static depth).
   static constexpr int kCarryEvery = 3;
   static constexpr int kStride = 3;
   struct Options {
