@@ -460,13 +460,14 @@ OdometryFrame RgbdOdometry::prepareGray(const cv::Mat& gray, const cv::Mat& dept
       if (!(row[u] >= lo && row[u] <= hi)) row[u] = 0.0f;  // also NaN
   }
   if (!person_mask.empty()) {
-    // A new image: dilating into a header of person_mask would grow the caller's mask in place.
-    cv::Mat grown = person_mask;
+    // Dilated into an image of its own: into a header of person_mask it would grow the caller's mask.
+    cv::Mat grown;
     if (options_.person_mask_dilation > 0) {
       const int r = options_.person_mask_dilation;
-      grown = cv::Mat();
       cv::dilate(person_mask, grown,
                  cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+    } else {
+      grown = person_mask;
     }
     depth.setTo(0.0f, grown > 0);
   }
