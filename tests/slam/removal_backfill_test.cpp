@@ -1,8 +1,10 @@
 #include "pf2/slam/removal_backfill.h"
 
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "pf2/core/error.h"
 
@@ -48,6 +50,7 @@ Eigen::Isometry3d cameraAt(double x) {
 struct Released {
   int index = -1;
   int person_removed = 0, person_pixels = 0, wall_removed = 0;
+  cv::Mat removed, person;  // CV_8U as released; the person's pixels
 };
 
 class Backfill : public testing::Test {
@@ -66,9 +69,24 @@ class Backfill : public testing::Test {
       r.person_pixels = cv::countNonZero(person);
       r.person_removed = cv::countNonZero(done.removed & person);
       r.wall_removed = cv::countNonZero(done.removed & ~person);
+      r.removed = done.removed.clone();
+      r.person = person;
       EXPECT_EQ(cv::countNonZero((done.depth > 0.f) & done.removed), 0);  // removed depth is gone
       released.push_back(r);
     };
+    return f;
+  }
+  // The same frame as the filter leaves it: the person removed with `spill` pixels of the wall
+  // around them (0: nothing removed), the depth as measured kept aside.
+  RemovalBackfill::Frame filtered(int index, double camera_x, double person_x, int spill) {
+    RemovalBackfill::Frame f = frame(index, camera_x, person_x);
+    f.measured = f.depth.clone();
+    if (spill > 0) {
+      cv::Mat person;
+      render(camera_x, person_x, &person);
+      cv::dilate(person, f.removed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * spill + 1, 2 * spill + 1)));
+      f.depth.setTo(0.f, f.removed);
+    }
     return f;
   }
   // The points of the person as found in a frame of a camera at camera_x.
@@ -154,6 +172,73 @@ TEST_F(Backfill, PointsNearTheFloorAreNotCarried) {
   for (const Eigen::Vector3f& p : above) EXPECT_GE(0.3 - p.y(), 0.1 - 1e-5);
 }
 
+TEST_F(Backfill, TheWallRemovedBesideAPersonWhoLeftIsGivenBack) {
+  RemovalBackfill backfill;  // waits 30 frames, 3 of every third later frame must see it kept
+  // The person walks right 0.1 m a frame, removed with 10 px (15 cm on the wall) around them.
+  for (int i = 0; i < 40; ++i) backfill.push(filtered(i, 0.0, -1.0 + 0.1 * i, 10), {});
+  ASSERT_EQ(released.size(), 10u);  // frames 0-9, each with 30 later frames
+  for (const Released& r : released) {
+    ASSERT_GT(r.person_pixels, 2000);
+    // Where the person stood, the later frames see the wall 1 m farther: never given back.
+    EXPECT_EQ(r.person_removed, r.person_pixels) << "frame " << r.index;
+    // The wall around them was seen again, kept, by the later frames: all of it given back.
+    EXPECT_EQ(r.wall_removed, 0) << "frame " << r.index;
+  }
+}
+
+TEST_F(Backfill, APersonWhoStaysAndTheWallNearTheFloorAreNotGivenBack) {
+  RemovalBackfill backfill;
+  // The person stands still, removed with 10 px around them in every frame; the floor at y = 0.3
+  // (image y down: up = -y, the floor's height along it -0.3).
+  for (int i = 0; i < 40; ++i) {
+    RemovalBackfill::Frame f = filtered(i, 0.0, 0.0, 10);
+    f.floor = std::make_pair(Eigen::Vector3d(0.0, -1.0, 0.0), -0.3);
+    backfill.push(std::move(f), {});
+  }
+  ASSERT_EQ(released.size(), 10u);
+  const int spill = cv::countNonZero(filtered(0, 0.0, 0.0, 10).removed) - released[0].person_pixels;
+  ASSERT_GT(spill, 1000);
+  for (const Released& r : released) {
+    // The later frames removed the person and the wall around them too: nothing seen kept.
+    EXPECT_EQ(r.person_removed, r.person_pixels) << "frame " << r.index;
+    EXPECT_EQ(r.wall_removed, spill) << "frame " << r.index;
+  }
+
+  // The same while the later frames keep everything: only the wall within 0.1 m of the floor
+  // (y > 0.2 on the wall 3 m away: image rows below 120 + 200 * 0.2 / 3) stays removed.
+  RemovalBackfill kept;
+  released.clear();
+  for (int i = 0; i < 40; ++i) {
+    RemovalBackfill::Frame f = filtered(i, 0.0, -1.0 + 0.1 * i, i == 0 ? 10 : 0);
+    f.floor = std::make_pair(Eigen::Vector3d(0.0, -1.0, 0.0), -0.3);
+    kept.push(std::move(f), {});
+  }
+  ASSERT_FALSE(released.empty());
+  const Released& first = released[0];
+  const cv::Mat wall_removed = first.removed & ~first.person;
+  const int low_row = 120 + 200 * 2 / 30 + 1;
+  EXPECT_EQ(cv::countNonZero(wall_removed.rowRange(0, low_row - 1)), 0);
+  EXPECT_GT(cv::countNonZero(wall_removed.rowRange(low_row, wall_removed.rows)), 200);
+}
+
+TEST_F(Backfill, APersonTheLaterFramesMissNowAndThenIsNotGivenBack) {
+  RemovalBackfill backfill;
+  // A person standing still, removed (with 10 px around them) in every frame but every sixth: of
+  // the ten later frames frame 0 is looked for in (3, 6, ..., 30) five kept them, five removed them.
+  for (int i = 0; i < 31; ++i) backfill.push(filtered(i, 0.0, 0.0, i % 6 == 0 && i > 0 ? 0 : 10), {});
+  ASSERT_EQ(released.size(), 1u);
+  EXPECT_EQ(released[0].person_removed, released[0].person_pixels);
+
+  // Removed in frame 0 and every twelfth frame only (two of the ten removed them, eight kept them):
+  // taken for a mistake, given back.
+  RemovalBackfill missed;
+  released.clear();
+  for (int i = 0; i < 31; ++i) missed.push(filtered(i, 0.0, 0.0, i % 12 == 0 ? 10 : 0), {});
+  ASSERT_EQ(released.size(), 1u);
+  EXPECT_EQ(released[0].person_removed, 0);
+  EXPECT_EQ(released[0].wall_removed, 0);
+}
+
 TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   RemovalBackfill::Options bad;
   bad.frames = 301;
@@ -164,6 +249,12 @@ TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   bad = RemovalBackfill::Options();
   bad.floor_clearance = -0.1;
   EXPECT_THROW(RemovalBackfill{bad}, Error);
+  bad = RemovalBackfill::Options();
+  bad.give_back_views = 11;
+  EXPECT_THROW(RemovalBackfill{bad}, Error);
+  bad = RemovalBackfill::Options();
+  bad.give_back_tolerance = 0.001;
+  EXPECT_THROW(RemovalBackfill{bad}, Error);
 
   RemovalBackfill backfill;
   RemovalBackfill::Frame frame;
@@ -172,6 +263,9 @@ TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   EXPECT_THROW(backfill.push(frame, {}), Error);
   frame.depth = cv::Mat::zeros(4, 4, CV_32F);
   frame.removed = cv::Mat::zeros(4, 5, CV_8U);
+  EXPECT_THROW(backfill.push(frame, {}), Error);
+  frame.removed = cv::Mat::zeros(4, 4, CV_8U);
+  frame.measured = cv::Mat::zeros(4, 4, CV_16U);
   EXPECT_THROW(backfill.push(frame, {}), Error);
 }
 

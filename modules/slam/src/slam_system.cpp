@@ -477,7 +477,15 @@ class SlamSystem::Pipeline {
     held.removed = filtered.removed.empty() ? cv::Mat::zeros(static_depth.size(), CV_8U)
                                             : (waits ? filtered.removed.clone() : filtered.removed);
     if (measured) held.T_w_c = result.T_w_c;
+    if (floor_.found()) held.floor = std::make_pair(up_.up_w(), floor_.height());
     held.intrinsics = frame.intrinsics;
+    const bool gives_back = removal_ && measured && waits && options_.backfill.give_back_views > 0;
+    const bool carries = removal_ && measured && backfill_.carriesNext();
+    const cv::Mat people = (gives_back || carries) ? carriedPeople(filtered, detections, frame.depth.size()) : cv::Mat();
+    if (gives_back) {
+      held.measured = frame.depth;  // read only
+      held.people = people > 0.f;
+    }
     const bool fuse = mapping_ && measured && fusedFrame(result, summary_.frames);
     held.release = [this, timestamp = frame.timestamp, fuse, rgb = fuse ? frame.rgb : cv::Mat(), result,
                     frame_number = summary_.frames](const RemovalBackfill::Frame& done) {
@@ -485,12 +493,7 @@ class SlamSystem::Pipeline {
       if (fuse) feedMap(rgb, done.intrinsics, done.depth, result, frame_number);
     };
     RemovalBackfill::Points people_w;
-    if (removal_ && measured && backfill_.carriesNext()) {
-      std::optional<std::pair<Eigen::Vector3d, double>> floor;
-      if (floor_.found()) floor = std::make_pair(up_.up_w(), floor_.height());
-      people_w = backfill_.personPoints(carriedPeople(filtered, detections, frame.depth.size()), frame.intrinsics,
-                                        result.T_w_c, floor);
-    }
+    if (carries) people_w = backfill_.personPoints(people, frame.intrinsics, result.T_w_c, held.floor);
     backfill_.push(std::move(held), people_w);
   }
 

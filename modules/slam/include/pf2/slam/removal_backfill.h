@@ -9,6 +9,14 @@
 // them, farther away, and removes nothing. Points near the floor are not carried back: a person's
 // feet touch the floor where they will stand.
 //
+// The wait also gives depth back: what the filter removed from a frame (a mask's spill onto the
+// floor, the wall or a chair beside a person; the rules beside the masks) whose surface later
+// frames saw again, kept, at the same place (Options::give_back_views of them, within
+// Options::give_back_tolerance, and twice as many as removed it there) was static: whoever stood
+// there has gone, and someone who stays is removed in most of the later frames too. Near the floor nothing is given back (feet stand on it), nor
+// the frame's own people (Frame::people): a seated person the later frames miss now and then has
+// not left.
+//
 // The tracker never waits: it has its frames' depth as the filter left it. Only the map's depth
 // and the written masks are finished later. NOT thread safe.
 #include <deque>
@@ -31,13 +39,24 @@ class RemovalBackfill {
   // hard cases keep 55-90 % of the gain in the people's depth, and lose less static depth).
   static constexpr int kCarryEvery = 3;
   static constexpr int kStride = 3;
+  // A frame's removed depth is looked for in every kConfirmEvery-th later frame only (ten of the
+  // thirty the frame waits for; consecutive frames see nearly the same).
+  static constexpr int kConfirmEvery = 3;
+  // The floor: the world's up vector and the floor's height along it (metres).
+  using Floor = std::optional<std::pair<Eigen::Vector3d, double>>;
   struct Options {
     int frames = 30;               // frames a frame waits for the people found after it, in
                                    // [0, 300]; 0 = off (each frame released at once)
     double tolerance = 0.05;       // metres, plus 1 % of the depth: a later person's point this
                                    // close to a waiting frame's depth removes it, in [0.005, 0.5]
     double floor_clearance = 0.1;  // metres: a person's points lower above the floor are not
-                                   // carried back, in [0, 1]
+                                   // carried back, nor removed depth given back, in [0, 1]
+    int give_back_views = 3;       // later frames (of every kConfirmEvery-th) that must see a removed
+                                   // pixel's surface again, kept, for it to be given back, in [0, 10];
+                                   // 0 = nothing given back
+    double give_back_tolerance = 0.03;  // metres, plus 1 % of the depth: a later frame's kept depth
+                                        // this close to a removed point sees its surface, in
+                                        // [0.005, 0.5]
   };
 
   // A frame waiting for the map. depth and removed are filled in as later frames' people arrive,
@@ -45,7 +64,10 @@ class RemovalBackfill {
   struct Frame {
     cv::Mat depth;    // CV_32F metres: the static depth for the map (0 = removed or none)
     cv::Mat removed;  // CV_8U, 255 where depth was removed as a person's
-    std::optional<Eigen::Isometry3d> T_w_c;  // none: nothing is carried into this frame
+    cv::Mat measured;  // CV_32F metres: the depth before removal; empty = nothing given back
+    cv::Mat people;    // CV_8U, 255 on the frame's own people (never given back); may be empty
+    std::optional<Eigen::Isometry3d> T_w_c;  // none: nothing is carried into or given back to this frame
+    Floor floor;                             // the floor when the frame was taken, if known
     CameraIntrinsics intrinsics;
     std::function<void(const Frame&)> release;  // called once, when the frame leaves the window
   };
@@ -58,8 +80,9 @@ class RemovalBackfill {
   explicit RemovalBackfill(const Options& options);
 
   // Carries people_w into every waiting frame, adds `frame` and releases (oldest first) the frames
-  // that have waited Options::frames frames. Throws pf2::Error when frame.depth is not CV_32F or
-  // frame.removed not CV_8U of its size.
+  // that have waited Options::frames frames, giving back their removed depth that the frames after
+  // them saw kept. Throws pf2::Error when frame.depth is not CV_32F, frame.removed not CV_8U of its
+  // size, or frame.measured (frame.people) neither empty nor CV_32F (CV_8U) of its size.
   void push(Frame frame, const Points& people_w);
   // Releases every waiting frame, oldest first (the end of a run).
   void flush();
@@ -73,7 +96,7 @@ class RemovalBackfill {
   // points, leaving out those within floor_clearance of the floor (up_w . p - floor_height below
   // it, `floor` = (up_w, floor_height)) when the floor is known.
   Points personPoints(const cv::Mat& people_depth, const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& T_w_c,
-                      const std::optional<std::pair<Eigen::Vector3d, double>>& floor, int stride = kStride) const;
+                      const Floor& floor, int stride = kStride) const;
 
   const Options& options() const { return options_; }
 
@@ -85,6 +108,10 @@ class RemovalBackfill {
   // Marks the waiting frame's depth the points meet; true when more than a few of the points in
   // its view meet its depth or its removed pixels.
   bool carryInto(const Points& people_w, Waiting* waiting) const;
+  // Gives back the oldest waiting frame's removed depth that Options::give_back_views of the later
+  // waiting frames saw kept, except its own people, near the floor and where a later person was
+  // carried.
+  void giveBack(Waiting* oldest) const;
   void release(Waiting* waiting) const;
 
   Options options_;
