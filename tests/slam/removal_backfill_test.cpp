@@ -221,6 +221,32 @@ TEST_F(Backfill, APersonWhoStaysAndTheWallNearTheFloorAreNotGivenBack) {
   EXPECT_GT(cv::countNonZero(wall_removed.rowRange(low_row, wall_removed.rows)), 200);
 }
 
+TEST_F(Backfill, TheFramesBeforeGiveBackToo) {
+  RemovalBackfill backfill;
+  // The person walks right 0.1 m a frame; only frame 30 removed them (with 10 px around them), and
+  // the frames after it have no pose (tracking lost): only the thirty before it can tell.
+  for (int i = 0; i < 61; ++i) {
+    RemovalBackfill::Frame f = filtered(i, 0.0, -3.0 + 0.1 * i, i == 30 ? 10 : 0);
+    if (i > 30) f.T_w_c.reset();
+    backfill.push(std::move(f), {});
+  }
+  backfill.flush();
+  ASSERT_EQ(released.size(), 61u);
+  const Released& r = released[30];
+  ASSERT_GT(r.person_pixels, 2000);
+  EXPECT_EQ(r.person_removed, r.person_pixels);  // the frames before saw the wall behind them
+  EXPECT_EQ(r.wall_removed, 0);                   // and the wall beside them, kept
+
+  // Without the frames before (give_back_views = 0: none kept, nothing given back).
+  RemovalBackfill::Options options;
+  options.give_back_views = 0;
+  RemovalBackfill off(options);
+  released.clear();
+  for (int i = 0; i < 61; ++i) off.push(filtered(i, 0.0, -3.0 + 0.1 * i, i == 30 ? 10 : 0), {});
+  off.flush();
+  EXPECT_GT(released[30].wall_removed, 1000);
+}
+
 TEST_F(Backfill, APersonTheLaterFramesMissNowAndThenIsNotGivenBack) {
   RemovalBackfill backfill;
   // A person standing still, removed (with 10 px around them) in every frame but every sixth: of
@@ -250,7 +276,7 @@ TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   bad.floor_clearance = -0.1;
   EXPECT_THROW(RemovalBackfill{bad}, Error);
   bad = RemovalBackfill::Options();
-  bad.give_back_views = 11;
+  bad.give_back_views = 21;
   EXPECT_THROW(RemovalBackfill{bad}, Error);
   bad = RemovalBackfill::Options();
   bad.give_back_tolerance = 0.001;

@@ -24,15 +24,16 @@ constexpr int kIdleFrames = 2;
 // Points closer to a waiting camera than this are behind or at its lens.
 constexpr float kMinDepth = 0.1f;
 
-// Removed depth is given back only where at least this many times more later frames kept its
-// surface than removed it: a seated person whom the later frames remove most of the time and miss
-// now and then has not left (pf2_synth rpy: 0.8 points of the people's depth given back with no
-// such rule, 0.24 with this one; the static depth given back 1.2 and 0.9 points).
+// Removed depth is given back only where at least this many times more other frames kept its
+// surface than removed it: a seated person whom the other frames remove most of the time and miss
+// now and then has not left (pf2_synth rpy, looking at later frames only: 0.8 points of the
+// people's depth given back with no such rule, 0.24 with this one; the static depth given back 1.2
+// and 0.9 points).
 constexpr int kKeptOverRemoved = 2;
 
-// A later frame as seen from an earlier camera: q = A p + b takes a point p of the earlier camera
-// to the later frame's pixel times its depth (q.z() the depth).
-struct LaterView {
+// Another frame as seen from a frame's camera: q = A p + b takes a point p of that camera to the
+// other frame's pixel times its depth (q.z() the depth).
+struct OtherView {
   Eigen::Matrix3f A;
   Eigen::Vector3f b;
   const cv::Mat* depth;     // CV_32F, 0 = removed or none
@@ -40,13 +41,13 @@ struct LaterView {
   const cv::Mat* hits;      // CV_8U, a later person carried there (may be empty)
 };
 
-LaterView laterView(const RemovalBackfill::Frame& earlier, const RemovalBackfill::Frame& later, const cv::Mat& hits) {
-  const CameraIntrinsics& k = later.intrinsics;
+OtherView otherView(const RemovalBackfill::Frame& frame, const RemovalBackfill::Frame& other, const cv::Mat& hits) {
+  const CameraIntrinsics& k = other.intrinsics;
   Eigen::Matrix3f K;
   K << static_cast<float>(k.fx), 0.f, static_cast<float>(k.cx), 0.f, static_cast<float>(k.fy),
       static_cast<float>(k.cy), 0.f, 0.f, 1.f;
-  const Eigen::Isometry3f T_l_e = (later.T_w_c->inverse() * *earlier.T_w_c).cast<float>();
-  return {K * T_l_e.linear(), K * T_l_e.translation(), &later.depth, &later.measured, &hits};
+  const Eigen::Isometry3f T_o_f = (other.T_w_c->inverse() * *frame.T_w_c).cast<float>();
+  return {K * T_o_f.linear(), K * T_o_f.translation(), &other.depth, &other.measured, &hits};
 }
 
 enum class Seen { kNot, kKept, kRemoved };
@@ -54,7 +55,7 @@ enum class Seen { kNot, kKept, kRemoved };
 // What the view did with the surface at p: measured it within tolerance + 1 % of p's depth there
 // and kept it (no later person carried there either), measured it there and removed it, or
 // neither (out of view, behind something, or free space: someone moved).
-Seen seenThere(const LaterView& view, const Eigen::Vector3f& p, float tolerance) {
+Seen seenThere(const OtherView& view, const Eigen::Vector3f& p, float tolerance) {
   const Eigen::Vector3f q = view.A * p + view.b;
   const float z = q.z();
   if (z < kMinDepth) return Seen::kNot;
@@ -69,16 +70,33 @@ Seen seenThere(const LaterView& view, const Eigen::Vector3f& p, float tolerance)
   return (m > 0.f && std::abs(m - z) < near) ? Seen::kRemoved : Seen::kNot;
 }
 
-// Whether the later views show p's surface as static: at least min_kept of them kept it, and
+// Whether the views show p's surface as static: at least min_kept of them kept it, and
 // kKeptOverRemoved times as many kept it as removed it.
-bool keptLater(const std::vector<LaterView>& views, const Eigen::Vector3f& p, float tolerance, int min_kept) {
+bool keptElsewhere(const std::vector<OtherView>& views, const Eigen::Vector3f& p, float tolerance, int min_kept) {
   int kept = 0, removed = 0;
-  for (const LaterView& view : views) {
+  for (const OtherView& view : views) {
     const Seen seen = seenThere(view, p, tolerance);
     kept += seen == Seen::kKept;
     removed += seen == Seen::kRemoved;
   }
   return kept >= min_kept && kept >= kKeptOverRemoved * removed;
+}
+
+// Marks the disc of radius kHitDilation around (u, v) in hits: a moved point stands for the
+// kStride x kStride pixels around it, and the marks are complete as soon as they are made (the
+// frames a pixel is given back by read them while they wait).
+void markHit(int u, int v, cv::Mat* hits) {
+  static const std::vector<cv::Point> disc = [] {
+    std::vector<cv::Point> offsets;
+    const int size = 2 * kHitDilation + 1;
+    cv::findNonZero(cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(size, size)), offsets);
+    for (cv::Point& p : offsets) p -= cv::Point(kHitDilation, kHitDilation);
+    return offsets;
+  }();
+  for (const cv::Point& d : disc) {
+    const int x = u + d.x, y = v + d.y;
+    if (x >= 0 && y >= 0 && x < hits->cols && y < hits->rows) hits->ptr<uint8_t>(y)[x] = 255;
+  }
 }
 
 void check(bool ok, const std::string& key, const std::string& range) {
@@ -91,7 +109,7 @@ RemovalBackfill::RemovalBackfill(const Options& options) : options_(options) {
   check(options.frames >= 0 && options.frames <= 300, "frames", "[0, 300]");
   check(options.tolerance >= 0.005 && options.tolerance <= 0.5, "tolerance", "[0.005, 0.5] m");
   check(options.floor_clearance >= 0.0 && options.floor_clearance <= 1.0, "floor_clearance", "[0, 1] m");
-  check(options.give_back_views >= 0 && options.give_back_views <= 10, "give_back_views", "[0, 10]");
+  check(options.give_back_views >= 0 && options.give_back_views <= 20, "give_back_views", "[0, 20]");
   check(options.give_back_tolerance >= 0.005 && options.give_back_tolerance <= 0.5, "give_back_tolerance",
         "[0.005, 0.5] m");
 }
@@ -117,21 +135,26 @@ void RemovalBackfill::push(Frame frame, const Points& people_w) {
   }
   ++pushed_;
   waiting_.push_back({std::move(frame), cv::Mat()});
-  while (waiting_.size() > static_cast<size_t>(options_.frames)) {
-    giveBack(&waiting_.front());
-    release(&waiting_.front());
-    waiting_.pop_front();
+  while (waiting_.size() > static_cast<size_t>(options_.frames)) releaseOldest();
+}
+
+void RemovalBackfill::releaseOldest() {
+  Waiting& oldest = waiting_.front();
+  giveBack(&oldest);
+  release(&oldest);
+  // Every kConfirmEvery-th frame is kept, as the map got it, for the frames after it to look at.
+  if (options_.give_back_views > 0 && released_count_++ % kConfirmEvery == 0 && oldest.frame.T_w_c) {
+    oldest.frame.release = nullptr;
+    released_.push_back(std::move(oldest));
+    if (released_.size() > static_cast<size_t>(options_.frames / kConfirmEvery)) released_.pop_front();
   }
+  waiting_.pop_front();
 }
 
 bool RemovalBackfill::carriesNext() const { return options_.frames > 0 && pushed_ % kCarryEvery == 0; }
 
 void RemovalBackfill::flush() {
-  while (!waiting_.empty()) {
-    giveBack(&waiting_.front());
-    release(&waiting_.front());
-    waiting_.pop_front();
-  }
+  while (!waiting_.empty()) releaseOldest();
 }
 
 RemovalBackfill::Points RemovalBackfill::personPoints(
@@ -182,7 +205,7 @@ bool RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const 
     const float d = frame.depth.ptr<float>(iv)[iu];
     if (!(d > 0.f) || std::abs(d - z) >= tolerance + 0.01f * z) continue;
     if (waiting->hits.empty()) waiting->hits = cv::Mat::zeros(frame.depth.size(), CV_8U);
-    waiting->hits.ptr<uint8_t>(iv)[iu] = 255;
+    markHit(iu, iv, &waiting->hits);
     ++met;
   }
   return met > kMinHitShare * in_view;
@@ -191,10 +214,12 @@ bool RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const 
 void RemovalBackfill::giveBack(Waiting* oldest) const {
   Frame& frame = oldest->frame;
   if (options_.give_back_views == 0 || !frame.T_w_c || frame.measured.empty()) return;
-  std::vector<LaterView> views;
+  // The frames before it as the map got them, and every kConfirmEvery-th of those after it.
+  std::vector<OtherView> views;
+  for (const Waiting& earlier : released_) views.push_back(otherView(frame, earlier.frame, earlier.hits));
   for (size_t i = kConfirmEvery; i < waiting_.size(); i += kConfirmEvery) {
     const Waiting& later = waiting_[i];
-    if (later.frame.T_w_c) views.push_back(laterView(frame, later.frame, later.hits));
+    if (later.frame.T_w_c) views.push_back(otherView(frame, later.frame, later.hits));
   }
   if (views.size() < static_cast<size_t>(options_.give_back_views)) return;
   // Height above the floor of a camera point p: up_c . p + up_offset.
@@ -218,7 +243,7 @@ void RemovalBackfill::giveBack(Waiting* oldest) const {
       if (!removed[u] || (hit && hit[u]) || (person && person[u]) || !(z > 0.f)) continue;
       const Eigen::Vector3f p(static_cast<float>((u - k.cx) / k.fx) * z, static_cast<float>((v - k.cy) / k.fy) * z, z);
       if (up_c.dot(p) + up_offset < clearance) continue;
-      if (!keptLater(views, p, tolerance, options_.give_back_views)) continue;
+      if (!keptElsewhere(views, p, tolerance, options_.give_back_views)) continue;
       removed[u] = 0;
       depth[u] = z;
     }
@@ -228,8 +253,6 @@ void RemovalBackfill::giveBack(Waiting* oldest) const {
 void RemovalBackfill::release(Waiting* waiting) const {
   Frame& frame = waiting->frame;
   if (!waiting->hits.empty()) {
-    const int size = 2 * kHitDilation + 1;
-    cv::dilate(waiting->hits, waiting->hits, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(size, size)));
     waiting->hits &= (frame.depth > 0.f);
     frame.depth.setTo(0.f, waiting->hits);
     frame.removed.setTo(255, waiting->hits);

@@ -10,12 +10,14 @@
 // feet touch the floor where they will stand.
 //
 // The wait also gives depth back: what the filter removed from a frame (a mask's spill onto the
-// floor, the wall or a chair beside a person; the rules beside the masks) whose surface later
-// frames saw again, kept, at the same place (Options::give_back_views of them, within
+// floor, the wall or a chair beside a person; the rules beside the masks) whose surface the frames
+// around it saw, kept, at the same place (Options::give_back_views of them, within
 // Options::give_back_tolerance, and twice as many as removed it there) was static: whoever stood
-// there has gone, and someone who stays is removed in most of the later frames too. Near the floor nothing is given back (feet stand on it), nor
-// the frame's own people (Frame::people): a seated person the later frames miss now and then has
-// not left.
+// there came later or has gone, and someone who stays is removed in most of those frames too. The
+// frames around it are every kConfirmEvery-th of the Options::frames before it, as the map got
+// them (their own removal complete), and of those after it, as they wait (people found later
+// still to be carried into them). Near the floor nothing is given back (feet stand on it), nor the
+// frame's own people (Frame::people): a seated person other frames miss now and then has not left.
 //
 // The tracker never waits: it has its frames' depth as the filter left it. Only the map's depth
 // and the written masks are finished later. NOT thread safe.
@@ -39,8 +41,8 @@ class RemovalBackfill {
   // hard cases keep 55-90 % of the gain in the people's depth, and lose less static depth).
   static constexpr int kCarryEvery = 3;
   static constexpr int kStride = 3;
-  // A frame's removed depth is looked for in every kConfirmEvery-th later frame only (ten of the
-  // thirty the frame waits for; consecutive frames see nearly the same).
+  // A frame's removed depth is looked for in every kConfirmEvery-th frame before and after it only
+  // (ten of the thirty each way; consecutive frames see nearly the same).
   static constexpr int kConfirmEvery = 3;
   // The floor: the world's up vector and the floor's height along it (metres).
   using Floor = std::optional<std::pair<Eigen::Vector3d, double>>;
@@ -51,10 +53,10 @@ class RemovalBackfill {
                                    // close to a waiting frame's depth removes it, in [0.005, 0.5]
     double floor_clearance = 0.1;  // metres: a person's points lower above the floor are not
                                    // carried back, nor removed depth given back, in [0, 1]
-    int give_back_views = 3;       // later frames (of every kConfirmEvery-th) that must see a removed
-                                   // pixel's surface again, kept, for it to be given back, in [0, 10];
-                                   // 0 = nothing given back
-    double give_back_tolerance = 0.03;  // metres, plus 1 % of the depth: a later frame's kept depth
+    int give_back_views = 3;       // frames around it (every kConfirmEvery-th) that must have seen a
+                                   // removed pixel's surface, kept, for it to be given back, in
+                                   // [0, 20]; 0 = nothing given back
+    double give_back_tolerance = 0.03;  // metres, plus 1 % of the depth: another frame's kept depth
                                         // this close to a removed point sees its surface, in
                                         // [0.005, 0.5]
   };
@@ -80,8 +82,8 @@ class RemovalBackfill {
   explicit RemovalBackfill(const Options& options);
 
   // Carries people_w into every waiting frame, adds `frame` and releases (oldest first) the frames
-  // that have waited Options::frames frames, giving back their removed depth that the frames after
-  // them saw kept. Throws pf2::Error when frame.depth is not CV_32F, frame.removed not CV_8U of its
+  // that have waited Options::frames frames, giving back their removed depth that the frames
+  // around them saw kept. Throws pf2::Error when frame.depth is not CV_32F, frame.removed not CV_8U of its
   // size, or frame.measured (frame.people) neither empty nor CV_32F (CV_8U) of its size.
   void push(Frame frame, const Points& people_w);
   // Releases every waiting frame, oldest first (the end of a run).
@@ -103,20 +105,25 @@ class RemovalBackfill {
  private:
   struct Waiting {
     Frame frame;
-    cv::Mat hits;  // CV_8U, 255 where a later person's point met this frame's depth
+    cv::Mat hits;  // CV_8U, 255 within 2 px of where a later person's point met its depth
   };
   // Marks the waiting frame's depth the points meet; true when more than a few of the points in
   // its view meet its depth or its removed pixels.
   bool carryInto(const Points& people_w, Waiting* waiting) const;
-  // Gives back the oldest waiting frame's removed depth that Options::give_back_views of the later
-  // waiting frames saw kept, except its own people, near the floor and where a later person was
+  // Gives back the oldest waiting frame's removed depth that Options::give_back_views of the frames
+  // around it saw kept, except its own people, near the floor and where a later person was
   // carried.
   void giveBack(Waiting* oldest) const;
   void release(Waiting* waiting) const;
+  // Gives back, releases and drops the oldest waiting frame, keeping it for the frames after it to
+  // look at when it is every kConfirmEvery-th.
+  void releaseOldest();
 
   Options options_;
   std::deque<Waiting> waiting_;
-  long pushed_ = 0;  // frames pushed so far
+  std::deque<Waiting> released_;  // every kConfirmEvery-th frame released, the newest frames / kConfirmEvery
+  long pushed_ = 0;               // frames pushed so far
+  long released_count_ = 0;       // frames released so far
 };
 
 }  // namespace pf2
