@@ -61,7 +61,7 @@ const char* kUsage =
     "  --pcd                also write map.pcd (the mesh vertices as coloured points)\n"
     "  --obj                also write map.obj (the mesh as Wavefront OBJ with vertex colours)\n"
     "  --masks              also write masks/<timestamp>.png per frame (255 = depth removed from the\n"
-    "                       map, filter.backfill_frames included)\n"
+    "                       map, filter.backfill_frames and filter.give_back_views included)\n"
     "  --no-bodies          no body fits: humans.txt from the eq. 2 centres, no humans.json/scene.*\n"
     "  --bodies-every N     scene.ply/.obj also show every N-th body along each track\n"
     "  --calibration FILE   camera calibration file (default: camera.txt in the folder or TUM preset)\n"
