@@ -173,7 +173,7 @@ TEST_F(Backfill, PointsNearTheFloorAreNotCarried) {
 }
 
 TEST_F(Backfill, TheWallRemovedBesideAPersonWhoLeftIsGivenBack) {
-  RemovalBackfill backfill;  // waits 30 frames, 3 of every third later frame must see it kept
+  RemovalBackfill backfill;  // waits 30 frames; 3 of every sixth frame around must see it kept
   // The person walks right 0.1 m a frame, removed with 10 px (15 cm on the wall) around them.
   for (int i = 0; i < 40; ++i) backfill.push(filtered(i, 0.0, -1.0 + 0.1 * i, 10), {});
   ASSERT_EQ(released.size(), 10u);  // frames 0-9, each with 30 later frames
@@ -249,17 +249,19 @@ TEST_F(Backfill, TheFramesBeforeGiveBackToo) {
 
 TEST_F(Backfill, APersonTheLaterFramesMissNowAndThenIsNotGivenBack) {
   RemovalBackfill backfill;
-  // A person standing still, removed (with 10 px around them) in every frame but every sixth: of
-  // the ten later frames frame 0 is looked for in (3, 6, ..., 30) five kept them, five removed them.
-  for (int i = 0; i < 31; ++i) backfill.push(filtered(i, 0.0, 0.0, i % 6 == 0 && i > 0 ? 0 : 10), {});
+  // A person standing still, removed (with 10 px around them) in every frame but 6, 12 and 18: of
+  // the five later frames frame 0 is looked for in (6, 12, ..., 30) three kept them, two removed
+  // them; three are enough, but not twice as many as removed them.
+  const auto missedIn = [](int i) { return i == 6 || i == 12 || i == 18; };
+  for (int i = 0; i < 31; ++i) backfill.push(filtered(i, 0.0, 0.0, missedIn(i) ? 0 : 10), {});
   ASSERT_EQ(released.size(), 1u);
   EXPECT_EQ(released[0].person_removed, released[0].person_pixels);
 
-  // Removed in frame 0 and every twelfth frame only (two of the ten removed them, eight kept them):
-  // taken for a mistake, given back.
+  // Removed in frames 0 and 24 only (one of the five removed them, four kept them): taken for a
+  // mistake, given back.
   RemovalBackfill missed;
   released.clear();
-  for (int i = 0; i < 31; ++i) missed.push(filtered(i, 0.0, 0.0, i % 12 == 0 ? 10 : 0), {});
+  for (int i = 0; i < 31; ++i) missed.push(filtered(i, 0.0, 0.0, i == 0 || i == 24 ? 10 : 0), {});
   ASSERT_EQ(released.size(), 1u);
   EXPECT_EQ(released[0].person_removed, 0);
   EXPECT_EQ(released[0].wall_removed, 0);
@@ -276,7 +278,7 @@ TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   bad.floor_clearance = -0.1;
   EXPECT_THROW(RemovalBackfill{bad}, Error);
   bad = RemovalBackfill::Options();
-  bad.give_back_views = 21;
+  bad.give_back_views = 11;
   EXPECT_THROW(RemovalBackfill{bad}, Error);
   bad = RemovalBackfill::Options();
   bad.give_back_tolerance = 0.001;

@@ -129,8 +129,8 @@ void filterSettings(SlamOptions& o, Settings& s) {
   s.number("filter.backfill_floor_clearance", &o.backfill.floor_clearance, 0.0, 1.0, "metres",
            "a person's points lower than this above the floor are not carried back, nor removed depth given back "
            "(filter.backfill_frames)");
-  s.integer("filter.give_back_views", &o.backfill.give_back_views, 0, 20, "frames",
-            "of every third frame in the filter.backfill_frames before and after a frame: this many must have "
+  s.integer("filter.give_back_views", &o.backfill.give_back_views, 0, 10, "frames",
+            "of every sixth frame in the filter.backfill_frames before and after a frame: this many must have "
             "seen a removed pixel's surface, kept (and twice as many as removed it), for the map and masks/ to "
             "get it back; 0 = off");
   s.number("filter.give_back_tolerance", &o.backfill.give_back_tolerance, 0.005, 0.5, "metres",
