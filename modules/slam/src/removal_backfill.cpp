@@ -87,7 +87,7 @@ struct Probe {
 // Counts the view's vote for each open probe and closes those the rest of the views (`rest` of
 // them) cannot change: given back when at least min_kept kept the surface and kKeptOverRemoved
 // times as many kept it as removed it. One view at a time for all probes, so that its images are
-// read in order (all views for each probe in turn read twenty images at random: 66 ns a look).
+// read in order (all views for each probe in turn read them all at random: 66 ns a look).
 void vote(const OtherView& view, int rest, float tolerance, int min_kept, std::vector<Probe>* probes) {
   for (Probe& probe : *probes) {
     if (probe.answer != Probe::Answer::kOpen) continue;
@@ -239,8 +239,10 @@ void RemovalBackfill::giveBack(Waiting* oldest) const {
   std::vector<OtherView> views;
   auto earlier = released_.rbegin();
   for (size_t later = kConfirmEvery; earlier != released_.rend() || later < waiting_.size(); later += kConfirmEvery) {
-    if (earlier != released_.rend()) views.push_back(otherView(frame, earlier->frame, earlier->hits));
-    if (earlier != released_.rend()) ++earlier;
+    if (earlier != released_.rend()) {
+      views.push_back(otherView(frame, earlier->frame, earlier->hits));
+      ++earlier;
+    }
     const Waiting* next = later < waiting_.size() ? &waiting_[later] : nullptr;
     if (next && next->frame.T_w_c) views.push_back(otherView(frame, next->frame, next->hits));
   }
