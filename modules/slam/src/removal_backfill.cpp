@@ -36,23 +36,43 @@ constexpr float kMinDepth = 0.1f;
 // and 0.9 points).
 constexpr int kKeptOverRemoved = 2;
 
-// Another frame as seen from a frame's camera: q = A p + b takes a point p of that camera to the
-// other frame's pixel times its depth (q.z() the depth).
-struct OtherView {
+// Points of some frame x moved into a frame's image: q = A p_x + b is the pixel times the depth
+// (q.z() the depth); one 3x3 product per point.
+struct Projection {
   Eigen::Matrix3f A;
   Eigen::Vector3f b;
+  // The nearest pixel of q in an image of `size`; false when behind the lens or out of view.
+  bool pixel(const Eigen::Vector3f& q, const cv::Size& size, int* iu, int* iv) const {
+    const float z = q.z();
+    if (z < kMinDepth) return false;
+    const float u = q.x() / z, v = q.y() / z;
+    if (!(u >= -0.5f && v >= -0.5f && u < size.width - 0.5f && v < size.height - 0.5f)) return false;
+    *iu = static_cast<int>(u + 0.5f);
+    *iv = static_cast<int>(v + 0.5f);
+    return true;
+  }
+};
+
+// Into `frame`'s image from the frame x whose pose is T_w_x (identity: world points).
+Projection projectionInto(const RemovalBackfill::Frame& frame, const Eigen::Isometry3d& T_w_x) {
+  const CameraIntrinsics& k = frame.intrinsics;
+  Eigen::Matrix3f K;
+  K << static_cast<float>(k.fx), 0.f, static_cast<float>(k.cx), 0.f, static_cast<float>(k.fy),
+      static_cast<float>(k.cy), 0.f, 0.f, 1.f;
+  const Eigen::Isometry3f T_c_x = (frame.T_w_c->inverse() * T_w_x).cast<float>();
+  return {K * T_c_x.linear(), K * T_c_x.translation()};
+}
+
+// Another frame as seen from a frame's camera.
+struct OtherView {
+  Projection projection;    // from the frame's camera into the other's image
   const cv::Mat* depth;     // CV_32F, 0 = removed or none
   const cv::Mat* measured;  // CV_32F, the depth before removal (may be empty)
   const cv::Mat* hits;      // CV_8U, a later person carried there (may be empty)
 };
 
 OtherView otherView(const RemovalBackfill::Frame& frame, const RemovalBackfill::Frame& other, const cv::Mat& hits) {
-  const CameraIntrinsics& k = other.intrinsics;
-  Eigen::Matrix3f K;
-  K << static_cast<float>(k.fx), 0.f, static_cast<float>(k.cx), 0.f, static_cast<float>(k.fy),
-      static_cast<float>(k.cy), 0.f, 0.f, 1.f;
-  const Eigen::Isometry3f T_o_f = (other.T_w_c->inverse() * *frame.T_w_c).cast<float>();
-  return {K * T_o_f.linear(), K * T_o_f.translation(), &other.depth, &other.measured, &hits};
+  return {projectionInto(other, *frame.T_w_c), &other.depth, &other.measured, &hits};
 }
 
 enum class Seen { kNot, kKept, kRemoved };
@@ -61,12 +81,10 @@ enum class Seen { kNot, kKept, kRemoved };
 // and kept it (no later person carried there either), measured it there and removed it, or
 // neither (out of view, behind something, or free space: someone moved).
 Seen seenThere(const OtherView& view, const Eigen::Vector3f& p, float tolerance) {
-  const Eigen::Vector3f q = view.A * p + view.b;
+  const Eigen::Vector3f q = view.projection.A * p + view.projection.b;
+  int iu = 0, iv = 0;
+  if (!view.projection.pixel(q, view.depth->size(), &iu, &iv)) return Seen::kNot;
   const float z = q.z();
-  if (z < kMinDepth) return Seen::kNot;
-  const float u = q.x() / z, v = q.y() / z;
-  if (!(u >= -0.5f && v >= -0.5f && u < view.depth->cols - 0.5f && v < view.depth->rows - 0.5f)) return Seen::kNot;
-  const int iu = static_cast<int>(u + 0.5f), iv = static_cast<int>(v + 0.5f);
   const float near = tolerance + 0.01f * z;
   const float d = view.depth->ptr<float>(iv)[iu];
   const bool carried = !view.hits->empty() && view.hits->ptr<uint8_t>(iv)[iu];
@@ -199,24 +217,14 @@ RemovalBackfill::Points RemovalBackfill::personPoints(
 bool RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const {
   const Frame& frame = waiting->frame;
   if (!frame.T_w_c) return false;
-  // One 3x4 product per point: rows 0-1 give the pixel times the depth, row 2 the depth.
-  const CameraIntrinsics& k = frame.intrinsics;
-  Eigen::Matrix3f K;
-  K << static_cast<float>(k.fx), 0.f, static_cast<float>(k.cx), 0.f, static_cast<float>(k.fy),
-      static_cast<float>(k.cy), 0.f, 0.f, 1.f;
-  const Eigen::Isometry3f T_c_w = frame.T_w_c->inverse().cast<float>();
-  const Eigen::Matrix3f A = K * T_c_w.linear();
-  const Eigen::Vector3f b = K * T_c_w.translation();
+  const Projection projection = projectionInto(frame, Eigen::Isometry3d::Identity());
   const float tolerance = static_cast<float>(options_.tolerance);
-  const float max_u = static_cast<float>(frame.depth.cols) - 0.5f, max_v = static_cast<float>(frame.depth.rows) - 0.5f;
   size_t in_view = 0, met = 0;
   for (const Eigen::Vector3f& p_w : people_w) {
-    const Eigen::Vector3f q = A * p_w + b;
+    const Eigen::Vector3f q = projection.A * p_w + projection.b;
+    int iu = 0, iv = 0;
+    if (!projection.pixel(q, frame.depth.size(), &iu, &iv)) continue;
     const float z = q.z();
-    if (z < kMinDepth) continue;
-    const float u = q.x() / z, v = q.y() / z;
-    if (!(u >= -0.5f && v >= -0.5f && u < max_u && v < max_v)) continue;
-    const int iu = static_cast<int>(u + 0.5f), iv = static_cast<int>(v + 0.5f);  // nearest pixel
     ++in_view;
     if (frame.removed.ptr<uint8_t>(iv)[iu]) {  // removed already: the person was there, found then
       ++met;
