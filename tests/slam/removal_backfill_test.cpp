@@ -267,6 +267,55 @@ TEST_F(Backfill, APersonTheLaterFramesMissNowAndThenIsNotGivenBack) {
   EXPECT_EQ(released[0].wall_removed, 0);
 }
 
+TEST_F(Backfill, APersonNobodyFoundWhoWalkedOnIsRemovedWhereTheFramesAroundSawThroughThem) {
+  RemovalBackfill backfill;  // one of every sixth frame around must have seen through
+  // The person walks right 0.1 m a frame and the filter removed nothing of them: frames 6, 12, ...
+  // later the wall 1 m behind them is where they stood.
+  for (int i = 0; i < 40; ++i) backfill.push(filtered(i, 0.0, -1.0 + 0.1 * i, 0), {});
+  ASSERT_EQ(released.size(), 10u);
+  for (const Released& r : released) {
+    ASSERT_GT(r.person_pixels, 2000);
+    // One probe per 8 x 8 block found among every second pixel: a column at the person's outline
+    // may be missed.
+    EXPECT_GE(r.person_removed, 0.97 * r.person_pixels) << "frame " << r.index;
+    EXPECT_EQ(r.wall_removed, 0) << "frame " << r.index;  // never seen through
+  }
+
+  // Off: nothing removed.
+  RemovalBackfill::Options options;
+  options.seen_through_views = 0;
+  RemovalBackfill off(options);
+  released.clear();
+  for (int i = 0; i < 40; ++i) off.push(filtered(i, 0.0, -1.0 + 0.1 * i, 0), {});
+  ASSERT_EQ(released.size(), 10u);
+  for (const Released& r : released) EXPECT_EQ(r.person_removed, 0) << "frame " << r.index;
+}
+
+TEST_F(Backfill, AStillSceneIsNotRemovedWhereAPoseOneCentimetreOffLooksPastAnEdge) {
+  RemovalBackfill backfill;
+  // The patch stands still (a box, say) and nothing is removed; frame 0's pose is 1 cm off to the
+  // right, so the column of the box at its edge moves past it in every other frame, onto the wall
+  // 1 m behind: only the depth around the pixel there (the box, 1 px away) tells it from free space.
+  for (int i = 0; i < 31; ++i) {
+    RemovalBackfill::Frame f = filtered(i, 0.0, 0.0, 0);
+    if (i == 0) f.T_w_c = cameraAt(0.01);
+    backfill.push(std::move(f), {});
+  }
+  ASSERT_EQ(released.size(), 1u);
+  EXPECT_EQ(released[0].person_removed, 0);
+  EXPECT_EQ(released[0].wall_removed, 0);
+}
+
+TEST_F(Backfill, WhatTwoFramesAroundKeptIsNotRemovedThoughOthersSawThroughIt) {
+  RemovalBackfill backfill;
+  // The person stands at x = 0 in frames 0-5 and 24-30 and elsewhere in frames 6-23: of the
+  // frames frame 0 looks in (6, 12, ..., 30), 24 and 30 kept them there, 6, 12 and 18 saw the wall.
+  const auto personAt = [](int i) { return i >= 6 && i < 24 ? 1.0 : 0.0; };
+  for (int i = 0; i < 31; ++i) backfill.push(filtered(i, 0.0, personAt(i), 0), {});
+  ASSERT_EQ(released.size(), 1u);
+  EXPECT_EQ(released[0].person_removed, 0);
+}
+
 TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   RemovalBackfill::Options bad;
   bad.frames = 301;
@@ -282,6 +331,12 @@ TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   EXPECT_THROW(RemovalBackfill{bad}, Error);
   bad = RemovalBackfill::Options();
   bad.give_back_tolerance = 0.001;
+  EXPECT_THROW(RemovalBackfill{bad}, Error);
+  bad = RemovalBackfill::Options();
+  bad.seen_through_views = 11;
+  EXPECT_THROW(RemovalBackfill{bad}, Error);
+  bad = RemovalBackfill::Options();
+  bad.seen_through_margin = 0.01;
   EXPECT_THROW(RemovalBackfill{bad}, Error);
 
   RemovalBackfill backfill;

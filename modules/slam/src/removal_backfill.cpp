@@ -12,29 +12,10 @@
 
 namespace pf2 {
 
-namespace {
+namespace removal_backfill_internal {
 
-// Moved points land about one every kStride pixels; a disc of this radius closes the gaps between
-// them (an estimate on pf2_synth with every second pixel: 1 px left a tenth of the gain).
-constexpr int kHitDilation = 2;
-// A waiting frame where no more than this share of the points in its view meet its depth or its
-// removed pixels did not have the people there; after kIdleFrames such frames in a row the older
-// ones are not tried.
-constexpr double kMinHitShare = 0.02;
-constexpr int kIdleFrames = 2;
-// Removed depth is looked for in other frames at one pixel of each kBlock x kBlock block (the
-// looking is the costly part; one pixel of each 3 x 3 or 4 x 4 block, or every pixel, gave the same
-// figures on the six pf2_synth hard cases within 0.04 points).
-constexpr int kBlock = 4;
 // Points closer to a waiting camera than this are behind or at its lens.
 constexpr float kMinDepth = 0.1f;
-
-// Removed depth is given back only where at least this many times more other frames kept its
-// surface than removed it: a seated person whom the other frames remove most of the time and miss
-// now and then has not left (pf2_synth rpy, looking at later frames only: 0.8 points of the
-// people's depth given back with no such rule, 0.24 with this one; the static depth given back 1.2
-// and 0.9 points).
-constexpr int kKeptOverRemoved = 2;
 
 // Points of some frame x moved into a frame's image: q = A p_x + b is the pixel times the depth
 // (q.z() the depth); one 3x3 product per point.
@@ -53,6 +34,51 @@ struct Projection {
   }
 };
 
+// Another frame as seen from a frame's camera.
+struct OtherView {
+  Projection projection;    // from the frame's camera into the other's image
+  const cv::Mat* depth;     // CV_32F, 0 = removed or none
+  const cv::Mat* measured;  // CV_32F, the depth before removal (may be empty)
+  const cv::Mat* hits;      // CV_8U, a later person carried there (may be empty)
+};
+
+}  // namespace removal_backfill_internal
+
+namespace {
+
+using removal_backfill_internal::OtherView;
+using removal_backfill_internal::Projection;
+
+// Moved points land about one every kStride pixels; a disc of this radius closes the gaps between
+// them (an estimate on pf2_synth with every second pixel: 1 px left a tenth of the gain).
+constexpr int kHitDilation = 2;
+// A waiting frame where no more than this share of the points in its view meet its depth or its
+// removed pixels did not have the people there; after kIdleFrames such frames in a row the older
+// ones are not tried.
+constexpr double kMinHitShare = 0.02;
+constexpr int kIdleFrames = 2;
+// Removed depth is looked for in other frames at one pixel of each kBlock x kBlock block (the
+// looking is the costly part; one pixel of each 3 x 3 or 4 x 4 block, or every pixel, gave the same
+// figures on the six pf2_synth hard cases within 0.04 points). Kept depth, most of the image, at
+// one of each kKeptBlock x kKeptBlock block, found among every kKeptStep-th pixel and row.
+constexpr int kBlock = 4;
+constexpr int kKeptBlock = 8;
+constexpr int kKeptStep = 2;
+
+// Removed depth is given back only where at least this many times more other frames kept its
+// surface than removed it: a seated person whom the other frames remove most of the time and miss
+// now and then has not left (pf2_synth rpy, looking at later frames only: 0.8 points of the
+// people's depth given back with no such rule, 0.24 with this one; the static depth given back 1.2
+// and 0.9 points).
+constexpr int kKeptOverRemoved = 2;
+// Kept depth that other frames saw through is removed only where no more than this many of them
+// kept its surface: a static point that one frame's error or noise moved past stays, since the
+// others measured it.
+constexpr int kMaxKeptViews = 1;
+
+// Whether two depths (metres) are the same surface's: within tolerance + 1 % of b.
+bool near(float a, float b, float tolerance) { return std::abs(a - b) < tolerance + 0.01f * b; }
+
 // Into `frame`'s image from the frame x whose pose is T_w_x (identity: world points).
 Projection projectionInto(const RemovalBackfill::Frame& frame, const Eigen::Isometry3d& T_w_x) {
   const CameraIntrinsics& k = frame.intrinsics;
@@ -63,59 +89,145 @@ Projection projectionInto(const RemovalBackfill::Frame& frame, const Eigen::Isom
   return {K * T_c_x.linear(), K * T_c_x.translation()};
 }
 
-// Another frame as seen from a frame's camera.
-struct OtherView {
-  Projection projection;    // from the frame's camera into the other's image
-  const cv::Mat* depth;     // CV_32F, 0 = removed or none
-  const cv::Mat* measured;  // CV_32F, the depth before removal (may be empty)
-  const cv::Mat* hits;      // CV_8U, a later person carried there (may be empty)
-};
-
 OtherView otherView(const RemovalBackfill::Frame& frame, const RemovalBackfill::Frame& other, const cv::Mat& hits) {
   return {projectionInto(other, *frame.T_w_c), &other.depth, &other.measured, &hits};
 }
 
-enum class Seen { kNot, kKept, kRemoved };
+enum class Seen { kNot, kKept, kRemoved, kThrough };
+
+// The nearest depth (metres) measured within kEdgeReach pixels of (u, v), 0 = none: free space is
+// only read where nothing nearer is close by, since at a depth edge a small error of the pose or
+// of the sensor moves the ray past the nearer surface.
+constexpr int kEdgeReach = 2;
+float nearestAround(const cv::Mat& depth, int u, int v) {
+  float nearest = std::numeric_limits<float>::infinity();
+  for (int y = std::max(v - kEdgeReach, 0); y <= std::min(v + kEdgeReach, depth.rows - 1); ++y) {
+    const float* row = depth.ptr<float>(y);
+    for (int x = std::max(u - kEdgeReach, 0); x <= std::min(u + kEdgeReach, depth.cols - 1); ++x) {
+      if (row[x] > 0.f) nearest = std::min(nearest, row[x]);
+    }
+  }
+  return std::isfinite(nearest) ? nearest : 0.f;
+}
+
+// How far behind a point (metres, plus kThroughShare of its depth) another frame must have measured
+// the scene around its pixel to have seen through it.
+struct Margins {
+  float tolerance = 0.f;  // metres, plus 1 % of the depth: the same surface
+  float through = std::numeric_limits<float>::infinity();
+};
+constexpr float kThroughShare = 0.03f;
 
 // What the view did with the surface at p: measured it within tolerance + 1 % of p's depth there
-// and kept it (no later person carried there either), measured it there and removed it, or
-// neither (out of view, behind something, or free space: someone moved).
-Seen seenThere(const OtherView& view, const Eigen::Vector3f& p, float tolerance) {
+// and kept it (no later person carried there either), measured it there and removed it, kept what
+// it measured well behind p all around its pixel (p was not there then: someone moved), or
+// none of these (out of view, behind something, at a depth edge).
+Seen seenThere(const OtherView& view, const Eigen::Vector3f& p, const Margins& margins) {
   const Eigen::Vector3f q = view.projection.A * p + view.projection.b;
   int iu = 0, iv = 0;
   if (!view.projection.pixel(q, view.depth->size(), &iu, &iv)) return Seen::kNot;
   const float z = q.z();
-  const float near = tolerance + 0.01f * z;
+  const float near = margins.tolerance + 0.01f * z;
   const float d = view.depth->ptr<float>(iv)[iu];
   const bool carried = !view.hits->empty() && view.hits->ptr<uint8_t>(iv)[iu];
   if (d > 0.f && !carried && std::abs(d - z) < near) return Seen::kKept;
+  const float behind = z + margins.through + kThroughShare * z;
+  if (d > behind) {
+    const float around = nearestAround(view.measured->empty() ? *view.depth : *view.measured, iu, iv);
+    return around > behind ? Seen::kThrough : Seen::kNot;
+  }
   const float m = view.measured->empty() ? 0.f : view.measured->ptr<float>(iv)[iu];
   return (m > 0.f && std::abs(m - z) < near) ? Seen::kRemoved : Seen::kNot;
 }
 
-// A removed pixel looked for in the other frames (one per block and depth): its camera point, the
-// block it answers for, and the other frames' votes so far.
+// A pixel looked for in the other frames (one per block and depth): its camera point, the block it
+// answers for, and the other frames' votes so far.
 struct Probe {
   Eigen::Vector3f p;
   int u0 = 0, v0 = 0;
-  int kept = 0, removed = 0;
-  enum class Answer : uint8_t { kOpen, kGiveBack, kKeep } answer = Answer::kOpen;
+  int kept = 0, removed = 0, through = 0;
+  enum class Answer : uint8_t { kOpen, kChange, kStay } answer = Answer::kOpen;
 };
 
-// Counts the view's vote for each open probe and closes those the rest of the views (`rest` of
-// them) cannot change: given back when at least min_kept kept the surface and kKeptOverRemoved
-// times as many kept it as removed it. One view at a time for all probes, so that its images are
-// read in order (all views for each probe in turn read them all at random: 66 ns a look).
-void vote(const OtherView& view, int rest, float tolerance, int min_kept, std::vector<Probe>* probes) {
+// Counts the view's vote for each open removed probe and closes those the rest of the views (`rest`
+// of them) cannot change: given back (kChange) when at least min_kept kept the surface and
+// kKeptOverRemoved times as many kept it as removed it. One view at a time for all probes, so that
+// its images are read in order (all views for each probe in turn read them all at random: 66 ns a
+// look).
+void voteGiveBack(const OtherView& view, int rest, const Margins& margins, int min_kept, std::vector<Probe>* probes) {
   for (Probe& probe : *probes) {
     if (probe.answer != Probe::Answer::kOpen) continue;
-    const Seen seen = seenThere(view, probe.p, tolerance);
+    const Seen seen = seenThere(view, probe.p, margins);
     probe.kept += seen == Seen::kKept;
     probe.removed += seen == Seen::kRemoved;
     if (probe.kept + rest < min_kept || probe.kept + rest < kKeptOverRemoved * probe.removed) {
-      probe.answer = Probe::Answer::kKeep;
+      probe.answer = Probe::Answer::kStay;
     } else if (probe.kept >= min_kept && probe.kept >= kKeptOverRemoved * (probe.removed + rest)) {
-      probe.answer = Probe::Answer::kGiveBack;
+      probe.answer = Probe::Answer::kChange;
+    }
+  }
+}
+
+// The same for a kept probe: removed (kChange) when at least min_through views saw through it and
+// no more than kMaxKeptViews kept its surface.
+void voteTake(const OtherView& view, int rest, const Margins& margins, int min_through, std::vector<Probe>* probes) {
+  for (Probe& probe : *probes) {
+    if (probe.answer != Probe::Answer::kOpen) continue;
+    const Seen seen = seenThere(view, probe.p, margins);
+    probe.kept += seen == Seen::kKept;
+    probe.through += seen == Seen::kThrough;
+    if (probe.kept > kMaxKeptViews || probe.through + rest < min_through) {
+      probe.answer = Probe::Answer::kStay;
+    } else if (probe.through >= min_through && probe.kept + rest <= kMaxKeptViews) {
+      probe.answer = Probe::Answer::kChange;
+    }
+  }
+}
+
+// A frame's camera point at pixel (u, v) and depth z (metres).
+Eigen::Vector3f cameraPoint(const CameraIntrinsics& k, int u, int v, float z) {
+  return {static_cast<float>((u - k.cx) / k.fx) * z, static_cast<float>((v - k.cy) / k.fy) * z, z};
+}
+
+// One probe per block x block block of the image and depth in it (two at most: a person's
+// outline), which answers for the block's candidates near its depth; looked for at every step-th
+// pixel and row of the block. depth(u, v) is a candidate's depth (metres), 0 elsewhere; `mask` is 0
+// where no candidate can be.
+template <typename Depth>
+std::vector<Probe> blockProbes(const cv::Mat& mask, int block, int step, const CameraIntrinsics& k, const Depth& depth,
+                               float tolerance) {
+  std::vector<Probe> probes;
+  for (int v0 = 0; v0 < mask.rows; v0 += block) {
+    for (int u0 = 0; u0 < mask.cols; u0 += block) {
+      std::optional<Probe> first, second;
+      for (int v = v0; v < std::min(v0 + block, mask.rows); v += step) {
+        const uint8_t* row = mask.ptr<uint8_t>(v);
+        for (int u = u0; u < std::min(u0 + block, mask.cols); u += step) {
+          if (!row[u]) continue;  // most pixels: decided before the full test
+          const float z = depth(u, v);
+          if (!(z > 0.f) || (first && (second || near(z, first->p.z(), tolerance)))) continue;
+          (first ? second : first) = Probe{cameraPoint(k, u, v, z), u0, v0};
+        }
+      }
+      if (first) probes.push_back(*first);
+      if (second) probes.push_back(*second);
+    }
+  }
+  return probes;
+}
+
+// Calls change(u, v, z) for each candidate of the blocks whose probe answered kChange, near its
+// probe's depth.
+template <typename Depth, typename Change>
+void changeBlocks(const std::vector<Probe>& probes, const cv::Size& size, int block, const Depth& depth,
+                  float tolerance, const Change& change) {
+  for (const Probe& probe : probes) {
+    if (probe.answer != Probe::Answer::kChange) continue;
+    for (int v = probe.v0; v < std::min(probe.v0 + block, size.height); ++v) {
+      for (int u = probe.u0; u < std::min(probe.u0 + block, size.width); ++u) {
+        const float z = depth(u, v);
+        if (z > 0.f && near(z, probe.p.z(), tolerance)) change(u, v, z);
+      }
     }
   }
 }
@@ -150,6 +262,9 @@ RemovalBackfill::RemovalBackfill(const Options& options) : options_(options) {
   check(options.give_back_views >= 0 && options.give_back_views <= 10, "give_back_views", "[0, 10]");
   check(options.give_back_tolerance >= 0.005 && options.give_back_tolerance <= 0.5, "give_back_tolerance",
         "[0.005, 0.5] m");
+  check(options.seen_through_views >= 0 && options.seen_through_views <= 10, "seen_through_views", "[0, 10]");
+  check(options.seen_through_margin >= 0.02 && options.seen_through_margin <= 1.0, "seen_through_margin",
+        "[0.02, 1] m");
 }
 
 void RemovalBackfill::push(Frame frame, const Points& people_w) {
@@ -178,10 +293,15 @@ void RemovalBackfill::push(Frame frame, const Points& people_w) {
 
 void RemovalBackfill::releaseOldest() {
   Waiting& oldest = waiting_.front();
-  giveBack(&oldest);
+  const bool looks = looksAround() && oldest.frame.T_w_c && !oldest.frame.measured.empty();
+  if (looks) {
+    const std::vector<OtherView> views = viewsAround(oldest.frame);
+    giveBack(views, &oldest);
+    takeSeenThrough(views, &oldest);
+  }
   release(&oldest);
   // Every kConfirmEvery-th frame is kept, as the map got it, for the frames after it to look at.
-  if (options_.give_back_views > 0 && released_count_++ % kConfirmEvery == 0 && oldest.frame.T_w_c) {
+  if (looksAround() && released_count_++ % kConfirmEvery == 0 && oldest.frame.T_w_c) {
     oldest.frame.release = nullptr;
     released_.push_back(std::move(oldest));
     if (released_.size() > static_cast<size_t>(options_.frames / kConfirmEvery)) released_.pop_front();
@@ -239,9 +359,7 @@ bool RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const 
   return met > kMinHitShare * in_view;
 }
 
-void RemovalBackfill::giveBack(Waiting* oldest) const {
-  Frame& frame = oldest->frame;
-  if (options_.give_back_views == 0 || !frame.T_w_c || frame.measured.empty()) return;
+std::vector<OtherView> RemovalBackfill::viewsAround(const Frame& frame) const {
   // Every kConfirmEvery-th frame released before it and waiting after it (with a pose), nearest
   // first, before and after in turn: a person's pixel is refused after a few of them.
   std::vector<OtherView> views;
@@ -254,7 +372,12 @@ void RemovalBackfill::giveBack(Waiting* oldest) const {
     const Waiting* next = later < waiting_.size() ? &waiting_[later] : nullptr;
     if (next && next->frame.T_w_c) views.push_back(otherView(frame, next->frame, next->hits));
   }
-  if (views.size() < static_cast<size_t>(options_.give_back_views)) return;
+  return views;
+}
+
+void RemovalBackfill::giveBack(const std::vector<OtherView>& views, Waiting* oldest) const {
+  Frame& frame = oldest->frame;
+  if (options_.give_back_views == 0 || views.size() < static_cast<size_t>(options_.give_back_views)) return;
   // Height above the floor of a camera point p: up_c . p + up_offset.
   Eigen::Vector3f up_c = Eigen::Vector3f::Zero();
   float up_offset = std::numeric_limits<float>::infinity();
@@ -263,54 +386,47 @@ void RemovalBackfill::giveBack(Waiting* oldest) const {
     up_offset = static_cast<float>(frame.floor->first.dot(frame.T_w_c->translation()) - frame.floor->second);
   }
   const CameraIntrinsics& k = frame.intrinsics;
-  const float tolerance = static_cast<float>(options_.give_back_tolerance);
   const float clearance = static_cast<float>(options_.floor_clearance);
-  // A removed pixel that may be given back: its camera point, or none.
-  const auto candidate = [&](int u, int v) -> std::optional<Eigen::Vector3f> {
+  // A removed pixel's depth where it may be given back, else 0.
+  const auto removed = [&](int u, int v) {
     const float z = frame.measured.ptr<float>(v)[u];
-    if (!frame.removed.ptr<uint8_t>(v)[u] || !(z > 0.f)) return std::nullopt;
-    if (!oldest->hits.empty() && oldest->hits.ptr<uint8_t>(v)[u]) return std::nullopt;
-    if (!frame.people.empty() && frame.people.ptr<uint8_t>(v)[u]) return std::nullopt;
-    const Eigen::Vector3f p(static_cast<float>((u - k.cx) / k.fx) * z, static_cast<float>((v - k.cy) / k.fy) * z, z);
-    if (up_c.dot(p) + up_offset < clearance) return std::nullopt;
-    return p;
+    if (!frame.removed.ptr<uint8_t>(v)[u] || !(z > 0.f)) return 0.f;
+    if (!oldest->hits.empty() && oldest->hits.ptr<uint8_t>(v)[u]) return 0.f;
+    if (!frame.people.empty() && frame.people.ptr<uint8_t>(v)[u]) return 0.f;
+    return up_c.dot(cameraPoint(k, u, v, z)) + up_offset < clearance ? 0.f : z;
   };
-  const auto near = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
-    return std::abs(a.z() - b.z()) < tolerance + 0.01f * b.z();
-  };
-  // One probe per kBlock x kBlock block and depth in it (two at most: a person's outline), which
-  // answers for the block's candidates near its depth; the others stay removed.
-  std::vector<Probe> probes;
-  for (int v0 = 0; v0 < frame.removed.rows; v0 += kBlock) {
-    for (int u0 = 0; u0 < frame.removed.cols; u0 += kBlock) {
-      std::optional<Eigen::Vector3f> first, second;
-      for (int v = v0; v < std::min(v0 + kBlock, frame.removed.rows); ++v) {
-        const uint8_t* removed = frame.removed.ptr<uint8_t>(v);
-        for (int u = u0; u < std::min(u0 + kBlock, frame.removed.cols); ++u) {
-          if (!removed[u]) continue;  // most pixels: decided before the full test
-          const std::optional<Eigen::Vector3f> p = candidate(u, v);
-          if (p && !first) first = p;
-          if (p && first && !second && !near(*p, *first)) second = p;
-        }
-      }
-      if (first) probes.push_back({*first, u0, v0});
-      if (second) probes.push_back({*second, u0, v0});
-    }
-  }
+  Margins margins;
+  margins.tolerance = static_cast<float>(options_.give_back_tolerance);
+  std::vector<Probe> probes = blockProbes(frame.removed, kBlock, 1, k, removed, margins.tolerance);
   for (size_t i = 0; i < views.size(); ++i) {
-    vote(views[i], static_cast<int>(views.size() - i - 1), tolerance, options_.give_back_views, &probes);
+    voteGiveBack(views[i], static_cast<int>(views.size() - i - 1), margins, options_.give_back_views, &probes);
   }
-  for (const Probe& probe : probes) {
-    if (probe.answer != Probe::Answer::kGiveBack) continue;
-    for (int v = probe.v0; v < std::min(probe.v0 + kBlock, frame.removed.rows); ++v) {
-      for (int u = probe.u0; u < std::min(probe.u0 + kBlock, frame.removed.cols); ++u) {
-        const std::optional<Eigen::Vector3f> p = candidate(u, v);
-        if (!p || !near(*p, probe.p)) continue;
-        frame.removed.ptr<uint8_t>(v)[u] = 0;
-        frame.depth.ptr<float>(v)[u] = p->z();
-      }
-    }
+  changeBlocks(probes, frame.depth.size(), kBlock, removed, margins.tolerance, [&](int u, int v, float z) {
+    frame.removed.ptr<uint8_t>(v)[u] = 0;
+    frame.depth.ptr<float>(v)[u] = z;
+  });
+}
+
+void RemovalBackfill::takeSeenThrough(const std::vector<OtherView>& views, Waiting* oldest) const {
+  Frame& frame = oldest->frame;
+  if (options_.seen_through_views == 0 || views.size() < static_cast<size_t>(options_.seen_through_views)) return;
+  const CameraIntrinsics& k = frame.intrinsics;
+  // A kept pixel's depth, unless a later person was carried there (removed anyway), else 0.
+  const auto kept = [&](int u, int v) {
+    const bool carried = !oldest->hits.empty() && oldest->hits.ptr<uint8_t>(v)[u];
+    return carried ? 0.f : frame.depth.ptr<float>(v)[u];
+  };
+  Margins margins;
+  margins.tolerance = static_cast<float>(options_.give_back_tolerance);
+  margins.through = static_cast<float>(options_.seen_through_margin);
+  std::vector<Probe> probes = blockProbes(frame.depth > 0.f, kKeptBlock, kKeptStep, k, kept, margins.tolerance);
+  for (size_t i = 0; i < views.size(); ++i) {
+    voteTake(views[i], static_cast<int>(views.size() - i - 1), margins, options_.seen_through_views, &probes);
   }
+  changeBlocks(probes, frame.depth.size(), kKeptBlock, kept, margins.tolerance, [&](int u, int v, float) {
+    frame.removed.ptr<uint8_t>(v)[u] = 255;
+    frame.depth.ptr<float>(v)[u] = 0.f;
+  });
 }
 
 void RemovalBackfill::release(Waiting* waiting) const {

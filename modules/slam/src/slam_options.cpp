@@ -136,6 +136,13 @@ void filterSettings(SlamOptions& o, Settings& s) {
   s.number("filter.give_back_tolerance", &o.backfill.give_back_tolerance, 0.005, 0.5, "metres",
            "plus 1 % of the depth: another frame's kept depth this close to a removed point sees its surface "
            "(filter.give_back_views)");
+  s.integer("filter.seen_through_views", &o.backfill.seen_through_views, 0, 10, "frames",
+            "of every sixth frame in the filter.backfill_frames before and after a frame: this many must have "
+            "seen through a kept pixel's point (kept what they measured behind it), and no more than one kept "
+            "its surface, for the map and masks/ to lose it as someone who moved; 0 = off");
+  s.number("filter.seen_through_margin", &o.backfill.seen_through_margin, 0.02, 1.0, "metres",
+           "plus 3 % of the depth: another frame's depth this far behind a point all around its pixel sees "
+           "through it (filter.seen_through_views)");
 }
 
 void odometrySettings(RgbdOdometry::Options& d, Settings& s) {

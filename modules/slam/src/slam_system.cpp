@@ -479,10 +479,11 @@ class SlamSystem::Pipeline {
     if (measured) held.T_w_c = result.T_w_c;
     if (floor_.found()) held.floor = std::make_pair(up_.up_w(), floor_.height());
     held.intrinsics = frame.intrinsics;
-    const bool gives_back = removal_ && measured && waits && options_.backfill.give_back_views > 0;
+    const bool looks_around = removal_ && measured && waits &&
+                              (options_.backfill.give_back_views > 0 || options_.backfill.seen_through_views > 0);
     const bool carries = removal_ && measured && backfill_.carriesNext();
-    const cv::Mat people = (gives_back || carries) ? carriedPeople(filtered, detections, frame.depth.size()) : cv::Mat();
-    if (gives_back) {
+    const cv::Mat people = (looks_around || carries) ? carriedPeople(filtered, detections, frame.depth.size()) : cv::Mat();
+    if (looks_around) {
       held.measured = frame.depth;  // read only
       held.people = people > 0.f;
     }

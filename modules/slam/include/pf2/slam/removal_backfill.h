@@ -33,6 +33,10 @@
 
 namespace pf2 {
 
+namespace removal_backfill_internal {
+struct OtherView;  // another frame as seen from a frame's camera (removal_backfill.cpp)
+}  // namespace removal_backfill_internal
+
 class RemovalBackfill {
  public:
   // The people of every kCarryEvery-th frame are carried back, every kStride-th pixel and row of
@@ -60,6 +64,13 @@ class RemovalBackfill {
     double give_back_tolerance = 0.03;  // metres, plus 1 % of the depth: another frame's kept depth
                                         // this close to a removed point sees its surface, in
                                         // [0.005, 0.5]
+    int seen_through_views = 1;    // frames around it (every kConfirmEvery-th) that must have seen
+                                   // through a kept pixel's point (kept what they measured well
+                                   // behind it) for it to be removed, if no more than one of them
+                                   // kept its surface, in [0, 10]; 0 = nothing removed so
+    double seen_through_margin = 0.1;  // metres, plus 3 % of the depth: another frame's depth this far
+                                       // behind a point all around its pixel sees through it, in
+                                       // [0.02, 1]
   };
 
   // A frame waiting for the map. depth and removed are filled in as later frames' people arrive,
@@ -111,10 +122,19 @@ class RemovalBackfill {
   // Marks the waiting frame's depth the points meet; true when more than a few of the points in
   // its view meet its depth or its removed pixels.
   bool carryInto(const Points& people_w, Waiting* waiting) const;
+  using OtherView = removal_backfill_internal::OtherView;
+  // Every kConfirmEvery-th frame around `frame` (released before it, waiting after it), nearest
+  // first, as seen from its camera.
+  std::vector<OtherView> viewsAround(const Frame& frame) const;
   // Gives back the oldest waiting frame's removed depth that Options::give_back_views of the frames
   // around it saw kept, except its own people, near the floor and where a later person was
   // carried.
-  void giveBack(Waiting* oldest) const;
+  void giveBack(const std::vector<OtherView>& views, Waiting* oldest) const;
+  // Removes the oldest waiting frame's kept depth that Options::seen_through_views of the frames
+  // around it saw through, and no more than one saw there: someone who has moved.
+  void takeSeenThrough(const std::vector<OtherView>& views, Waiting* oldest) const;
+  // Whether frames look at the frames around them (giving back or taking what others saw through).
+  bool looksAround() const { return options_.give_back_views > 0 || options_.seen_through_views > 0; }
   void release(Waiting* waiting) const;
   // Gives back, releases and drops the oldest waiting frame, keeping it for the frames after it to
   // look at when it is every kConfirmEvery-th.
