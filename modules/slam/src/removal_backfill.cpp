@@ -40,6 +40,7 @@ struct OtherView {
   const cv::Mat* depth;     // CV_32F, 0 = removed or none
   const cv::Mat* measured;  // CV_32F, the depth before removal (may be empty)
   const cv::Mat* hits;      // CV_8U, a later person carried there (may be empty)
+  int reach = 0;            // pixels around a pixel looked at before free space is read there
 };
 
 }  // namespace removal_backfill_internal
@@ -89,25 +90,43 @@ Projection projectionInto(const RemovalBackfill::Frame& frame, const Eigen::Isom
   return {K * T_c_x.linear(), K * T_c_x.translation()};
 }
 
-OtherView otherView(const RemovalBackfill::Frame& frame, const RemovalBackfill::Frame& other, const cv::Mat& hits) {
-  return {projectionInto(other, *frame.T_w_c), &other.depth, &other.measured, &hits};
+// Free space is read no nearer than this to a nearer surface (pixels), plus the farther of the two
+// frames' turn from the frame before, in pixels: a real sensor's depth and its pose disagree by
+// 10-25 px while it turns 2-3 degrees a frame (TUM fr1/rpy: rolling shutter, the depth image's
+// own time), little when it is still.
+constexpr int kFarReach = 15;
+
+OtherView otherView(const RemovalBackfill::Frame& frame, double frame_turn, const RemovalBackfill::Frame& other,
+                    double other_turn, const cv::Mat& hits) {
+  const int turn_pixels = static_cast<int>(std::ceil(std::max(frame_turn, other_turn) * other.intrinsics.fx));
+  return {projectionInto(other, *frame.T_w_c), &other.depth, &other.measured, &hits, kFarReach + turn_pixels};
 }
 
 enum class Seen { kNot, kKept, kRemoved, kThrough };
 
-// The nearest depth (metres) measured within kEdgeReach pixels of (u, v), 0 = none: free space is
-// only read where nothing nearer is close by, since at a depth edge a small error of the pose or
-// of the sensor moves the ray past the nearer surface.
-constexpr int kEdgeReach = 2;
-float nearestAround(const cv::Mat& depth, int u, int v) {
+// The nearest depth (metres) measured around (u, v): every pixel within kEdgeReach (0 where one
+// has none) and every kFarStep-th pixel and row within far_reach. Free space is only read where
+// nothing nearer is close by: at a depth edge a small error of the pose or of the sensor moves the
+// ray past the nearer surface, and the sensor's shadow beside a nearer surface (no depth) hides
+// how near it is.
+constexpr int kEdgeReach = 3;
+constexpr int kFarStep = 3;
+float nearestAround(const cv::Mat& depth, int u, int v, int far_reach) {
   float nearest = std::numeric_limits<float>::infinity();
   for (int y = std::max(v - kEdgeReach, 0); y <= std::min(v + kEdgeReach, depth.rows - 1); ++y) {
     const float* row = depth.ptr<float>(y);
     for (int x = std::max(u - kEdgeReach, 0); x <= std::min(u + kEdgeReach, depth.cols - 1); ++x) {
+      if (!(row[x] > 0.f)) return 0.f;
+      nearest = std::min(nearest, row[x]);
+    }
+  }
+  for (int y = std::max(v - far_reach, 0); y <= std::min(v + far_reach, depth.rows - 1); y += kFarStep) {
+    const float* row = depth.ptr<float>(y);
+    for (int x = std::max(u - far_reach, 0); x <= std::min(u + far_reach, depth.cols - 1); x += kFarStep) {
       if (row[x] > 0.f) nearest = std::min(nearest, row[x]);
     }
   }
-  return std::isfinite(nearest) ? nearest : 0.f;
+  return nearest;
 }
 
 // How far behind a point (metres, plus kThroughShare of its depth) another frame must have measured
@@ -133,7 +152,7 @@ Seen seenThere(const OtherView& view, const Eigen::Vector3f& p, const Margins& m
   if (d > 0.f && !carried && std::abs(d - z) < near) return Seen::kKept;
   const float behind = z + margins.through + kThroughShare * z;
   if (d > behind) {
-    const float around = nearestAround(view.measured->empty() ? *view.depth : *view.measured, iu, iv);
+    const float around = nearestAround(view.measured->empty() ? *view.depth : *view.measured, iu, iv, view.reach);
     return around > behind ? Seen::kThrough : Seen::kNot;
   }
   const float m = view.measured->empty() ? 0.f : view.measured->ptr<float>(iv)[iu];
@@ -287,7 +306,10 @@ void RemovalBackfill::push(Frame frame, const Points& people_w) {
     }
   }
   ++pushed_;
-  waiting_.push_back({std::move(frame), cv::Mat()});
+  double turn = 0.0;
+  if (frame.T_w_c && last_pose_) turn = Eigen::AngleAxisd(last_pose_->linear().transpose() * frame.T_w_c->linear()).angle();
+  last_pose_ = frame.T_w_c;
+  waiting_.push_back({std::move(frame), cv::Mat(), turn});
   while (waiting_.size() > static_cast<size_t>(options_.frames)) releaseOldest();
 }
 
@@ -295,7 +317,7 @@ void RemovalBackfill::releaseOldest() {
   Waiting& oldest = waiting_.front();
   const bool looks = looksAround() && oldest.frame.T_w_c && !oldest.frame.measured.empty();
   if (looks) {
-    const std::vector<OtherView> views = viewsAround(oldest.frame);
+    const std::vector<OtherView> views = viewsAround(oldest.frame, oldest.turn);
     giveBack(views, &oldest);
     takeSeenThrough(views, &oldest);
   }
@@ -359,18 +381,18 @@ bool RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const 
   return met > kMinHitShare * in_view;
 }
 
-std::vector<OtherView> RemovalBackfill::viewsAround(const Frame& frame) const {
+std::vector<OtherView> RemovalBackfill::viewsAround(const Frame& frame, double turn) const {
   // Every kConfirmEvery-th frame released before it and waiting after it (with a pose), nearest
   // first, before and after in turn: a person's pixel is refused after a few of them.
   std::vector<OtherView> views;
   auto earlier = released_.rbegin();
   for (size_t later = kConfirmEvery; earlier != released_.rend() || later < waiting_.size(); later += kConfirmEvery) {
     if (earlier != released_.rend()) {
-      views.push_back(otherView(frame, earlier->frame, earlier->hits));
+      views.push_back(otherView(frame, turn, earlier->frame, earlier->turn, earlier->hits));
       ++earlier;
     }
     const Waiting* next = later < waiting_.size() ? &waiting_[later] : nullptr;
-    if (next && next->frame.T_w_c) views.push_back(otherView(frame, next->frame, next->hits));
+    if (next && next->frame.T_w_c) views.push_back(otherView(frame, turn, next->frame, next->turn, next->hits));
   }
   return views;
 }

@@ -118,14 +118,15 @@ class RemovalBackfill {
   struct Waiting {
     Frame frame;
     cv::Mat hits;  // CV_8U, 255 within 2 px of where a later person's point met its depth
+    double turn = 0.0;  // radians the camera turned since the frame pushed before it (0 if unknown)
   };
   // Marks the waiting frame's depth the points meet; true when more than a few of the points in
   // its view meet its depth or its removed pixels.
   bool carryInto(const Points& people_w, Waiting* waiting) const;
   using OtherView = removal_backfill_internal::OtherView;
   // Every kConfirmEvery-th frame around `frame` (released before it, waiting after it), nearest
-  // first, as seen from its camera.
-  std::vector<OtherView> viewsAround(const Frame& frame) const;
+  // first, as seen from its camera; `turn` is the frame's Waiting::turn.
+  std::vector<OtherView> viewsAround(const Frame& frame, double turn) const;
   // Gives back the oldest waiting frame's removed depth that Options::give_back_views of the frames
   // around it saw kept, except its own people, near the floor and where a later person was
   // carried.
@@ -145,6 +146,7 @@ class RemovalBackfill {
   std::deque<Waiting> released_;  // every kConfirmEvery-th frame released, the newest frames / kConfirmEvery
   long pushed_ = 0;               // frames pushed so far
   long released_count_ = 0;       // frames released so far
+  std::optional<Eigen::Isometry3d> last_pose_;  // the pose of the frame pushed last, if it had one
 };
 
 }  // namespace pf2
