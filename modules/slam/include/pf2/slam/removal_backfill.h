@@ -19,6 +19,11 @@
 // still to be carried into them). Near the floor nothing is given back (feet stand on it), nor the
 // frame's own people (Frame::people): a seated person other frames miss now and then has not left.
 //
+// The same frames take what they saw through: depth the frame kept where
+// Options::seen_through_views of them measured (and kept) the scene well behind it, all around
+// the pixel, and no more than one measured that surface there, was not there a moment before or
+// after: someone who moved, whom the filter missed. Whoever stays put is not found so.
+//
 // The tracker never waits: it has its frames' depth as the filter left it. Only the map's depth
 // and the written masks are finished later. NOT thread safe.
 #include <deque>
