@@ -250,9 +250,10 @@ TEST(SlamPipeline, PeopleNobodyFoundAreTakenFromTheMapWhereTheFramesAroundSawThr
               a.person_removed, b.person_removed, a.person, a.static_removed, b.static_removed, a.static_pixels);
   ASSERT_GT(a.person, 10000);
   // Of the people who walk (one sits all along, and nothing sees through him) the frames around saw
-  // the room behind where they stood: a fifth of all the people's depth more removed (16 % -> 41 %
-  // when written).
-  EXPECT_GT(b.person_removed, a.person_removed + a.person / 5);
+  // the room behind where they stood: a tenth of all the people's depth more removed (16 % -> 31 %
+  // when written; at 320 x 240 the 15 px kept free of nearer depth around a pixel are twice as wide
+  // as at full size).
+  EXPECT_GT(b.person_removed, a.person_removed + a.person / 10);
   EXPECT_LT(b.static_removed - a.static_removed, 0.001 * a.static_pixels);
   expectSameTrajectory(without, with);
 }
