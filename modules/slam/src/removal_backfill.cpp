@@ -208,21 +208,21 @@ Eigen::Vector3f cameraPoint(const CameraIntrinsics& k, int u, int v, float z) {
   return {static_cast<float>((u - k.cx) / k.fx) * z, static_cast<float>((v - k.cy) / k.fy) * z, z};
 }
 
-// One probe per block x block block of the image and depth in it (two at most: a person's
+// One probe per block x block block of an image of `size` and depth in it (two at most: a person's
 // outline), which answers for the block's candidates near its depth; looked for at every step-th
-// pixel and row of the block. depth(u, v) is a candidate's depth (metres), 0 elsewhere; `mask` is 0
-// where no candidate can be.
+// pixel and row of the block. depth(u, v) is a candidate's depth (metres), 0 elsewhere; `mask`, if
+// not empty, is 0 where no candidate can be (read before depth(u, v), which may cost more).
 template <typename Depth>
-std::vector<Probe> blockProbes(const cv::Mat& mask, int block, int step, const CameraIntrinsics& k, const Depth& depth,
-                               float tolerance) {
+std::vector<Probe> blockProbes(const cv::Size& size, const cv::Mat& mask, int block, int step,
+                               const CameraIntrinsics& k, const Depth& depth, float tolerance) {
   std::vector<Probe> probes;
-  for (int v0 = 0; v0 < mask.rows; v0 += block) {
-    for (int u0 = 0; u0 < mask.cols; u0 += block) {
+  for (int v0 = 0; v0 < size.height; v0 += block) {
+    for (int u0 = 0; u0 < size.width; u0 += block) {
       std::optional<Probe> first, second;
-      for (int v = v0; v < std::min(v0 + block, mask.rows); v += step) {
-        const uint8_t* row = mask.ptr<uint8_t>(v);
-        for (int u = u0; u < std::min(u0 + block, mask.cols); u += step) {
-          if (!row[u]) continue;  // most pixels: decided before the full test
+      for (int v = v0; v < std::min(v0 + block, size.height); v += step) {
+        const uint8_t* row = mask.empty() ? nullptr : mask.ptr<uint8_t>(v);
+        for (int u = u0; u < std::min(u0 + block, size.width); u += step) {
+          if (row && !row[u]) continue;  // most removed masks' pixels: decided before the full test
           const float z = depth(u, v);
           if (!(z > 0.f) || (first && (second || near(z, first->p.z(), tolerance)))) continue;
           (first ? second : first) = Probe{cameraPoint(k, u, v, z), u0, v0};
@@ -419,7 +419,7 @@ void RemovalBackfill::giveBack(const std::vector<OtherView>& views, Waiting* old
   };
   Margins margins;
   margins.tolerance = static_cast<float>(options_.give_back_tolerance);
-  std::vector<Probe> probes = blockProbes(frame.removed, kBlock, 1, k, removed, margins.tolerance);
+  std::vector<Probe> probes = blockProbes(frame.removed.size(), frame.removed, kBlock, 1, k, removed, margins.tolerance);
   for (size_t i = 0; i < views.size(); ++i) {
     voteGiveBack(views[i], static_cast<int>(views.size() - i - 1), margins, options_.give_back_views, &probes);
   }
@@ -441,7 +441,7 @@ void RemovalBackfill::takeSeenThrough(const std::vector<OtherView>& views, Waiti
   Margins margins;
   margins.tolerance = static_cast<float>(options_.give_back_tolerance);
   margins.through = static_cast<float>(options_.seen_through_margin);
-  std::vector<Probe> probes = blockProbes(frame.depth > 0.f, kKeptBlock, kKeptStep, k, kept, margins.tolerance);
+  std::vector<Probe> probes = blockProbes(frame.depth.size(), cv::Mat(), kKeptBlock, kKeptStep, k, kept, margins.tolerance);
   for (size_t i = 0; i < views.size(); ++i) {
     voteTake(views[i], static_cast<int>(views.size() - i - 1), margins, options_.seen_through_views, &probes);
   }
