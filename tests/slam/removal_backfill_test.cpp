@@ -1,5 +1,6 @@
 #include "pf2/slam/removal_backfill.h"
 
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -50,8 +51,18 @@ Eigen::Isometry3d cameraAt(double x) {
 struct Released {
   int index = -1;
   int person_removed = 0, person_pixels = 0, wall_removed = 0;
+  // The person's pixels at least RemovalBackfill::kOutline inside their outline (what is carried).
+  int inside_removed = 0, inside_pixels = 0;
   cv::Mat removed, person;  // CV_8U as released; the person's pixels
 };
+
+// `person` (CV_8U) without the outline personPoints leaves out.
+cv::Mat insideOutline(const cv::Mat& person) {
+  const int size = 2 * RemovalBackfill::kOutline + 1;
+  cv::Mat inside;
+  cv::erode(person, inside, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(size, size)));
+  return inside;
+}
 
 class Backfill : public testing::Test {
  protected:
@@ -69,6 +80,8 @@ class Backfill : public testing::Test {
       r.person_pixels = cv::countNonZero(person);
       r.person_removed = cv::countNonZero(done.removed & person);
       r.wall_removed = cv::countNonZero(done.removed & ~person);
+      r.inside_pixels = cv::countNonZero(insideOutline(person));
+      r.inside_removed = cv::countNonZero(done.removed & insideOutline(person));
       r.removed = done.removed.clone();
       r.person = person;
       EXPECT_EQ(cv::countNonZero((done.depth > 0.f) & done.removed), 0);  // removed depth is gone
@@ -110,8 +123,9 @@ TEST_F(Backfill, APersonFoundLateIsRemovedFromTheFramesWhereTheyStoodAlready) {
     const Released& r = released[i];
     EXPECT_EQ(r.index, i);
     ASSERT_GT(r.person_pixels, 2000);
-    // Every second pixel and row carried, the gaps closed: all of the person.
-    EXPECT_GE(r.person_removed, 0.98 * r.person_pixels) << "frame " << i;
+    // Every third pixel and row carried, the gaps closed: all of the person but their outline.
+    EXPECT_GE(r.inside_removed, 0.98 * r.inside_pixels) << "frame " << i;
+    EXPECT_GE(r.person_removed, 0.85 * r.person_pixels) << "frame " << i;
     // The wall loses at most the closing disc's ring around them (2 px).
     EXPECT_LT(r.wall_removed, 0.3 * r.person_pixels) << "frame " << i;
   }
@@ -128,6 +142,45 @@ TEST_F(Backfill, APersonWhoMovedSinceRemovesNothingBefore) {
   for (const Released& r : released) {
     EXPECT_EQ(r.person_removed, 0) << r.index;
     EXPECT_EQ(r.wall_removed, 0) << r.index;
+  }
+}
+
+TEST_F(Backfill, APersonFoundEarlierWhoStaysIsRemovedFromTheFramesAfterThatMissThem) {
+  RemovalBackfill backfill;  // carries a frame's people into the 30 frames after it too
+  backfill.push(frame(0, 0.0, 0.0), personFound(backfill, 0.0, 0.0));
+  for (int i = 1; i < 6; ++i) backfill.push(frame(i, 0.05 * i, 0.0), {});  // missed by the detector
+  backfill.flush();
+  ASSERT_EQ(released.size(), 6u);
+  for (int i = 1; i < 6; ++i) {
+    const Released& r = released[i];
+    ASSERT_GT(r.person_pixels, 2000);
+    EXPECT_GE(r.inside_removed, 0.98 * r.inside_pixels) << "frame " << i;
+    EXPECT_GE(r.person_removed, 0.85 * r.person_pixels) << "frame " << i;
+    EXPECT_LT(r.wall_removed, 0.3 * r.person_pixels) << "frame " << i;
+  }
+}
+
+TEST_F(Backfill, APersonWhoMovedOnRemovesNothingAfterAndNothingIsCarriedPastTheWait) {
+  RemovalBackfill::Options options;
+  options.frames = 3;
+  RemovalBackfill backfill(options);
+  // Found in frame 0, then gone 0.6 m to the right: where they stood, the frames after see the wall.
+  backfill.push(frame(0, 0.0, 0.0), personFound(backfill, 0.0, 0.0));
+  for (int i = 1; i < 4; ++i) backfill.push(frame(i, 0.0, 0.6), {});
+  // Found in frame 4, then standing still, missed: carried into the three frames after it only.
+  backfill.push(frame(4, 0.0, 0.0), personFound(backfill, 0.0, 0.0));
+  for (int i = 5; i < 10; ++i) backfill.push(frame(i, 0.0, 0.0), {});
+  backfill.flush();
+  ASSERT_EQ(released.size(), 10u);
+  for (int i = 1; i < 10; ++i) {
+    const Released& r = released[i];
+    if (i >= 5 && i <= 7) {
+      EXPECT_GE(r.inside_removed, 0.98 * r.inside_pixels) << "frame " << i;
+      EXPECT_LT(r.wall_removed, 0.3 * r.person_pixels) << "frame " << i;
+    } else {
+      EXPECT_EQ(r.person_removed, 0) << "frame " << i;
+      EXPECT_EQ(r.wall_removed, 0) << "frame " << i;
+    }
   }
 }
 
@@ -170,6 +223,27 @@ TEST_F(Backfill, PointsNearTheFloorAreNotCarried) {
   EXPECT_EQ(static_cast<int>(above.size()), expected);
   EXPECT_LT(above.size(), all.size());
   for (const Eigen::Vector3f& p : above) EXPECT_GE(0.3 - p.y(), 0.1 - 1e-5);
+}
+
+TEST_F(Backfill, APersonsOutlineIsNotCarried) {
+  RemovalBackfill backfill;
+  cv::Mat person;
+  cv::Mat people_depth = render(0.0, 0.0, &person);
+  people_depth.setTo(0.f, person == 0);
+  const RemovalBackfill::Points points = backfill.personPoints(people_depth, smallCamera(), cameraAt(0.0), std::nullopt);
+  const cv::Mat inside = insideOutline(person);
+  int expected = 0;
+  for (int v = 0; v < inside.rows; v += RemovalBackfill::kStride) {
+    for (int u = 0; u < inside.cols; u += RemovalBackfill::kStride) expected += inside.at<uint8_t>(v, u) ? 1 : 0;
+  }
+  ASSERT_GT(expected, 100);
+  EXPECT_EQ(static_cast<int>(points.size()), expected);
+  const CameraIntrinsics k = smallCamera();
+  for (const Eigen::Vector3f& p : points) {  // camera at the world's origin
+    const int u = static_cast<int>(std::lround(k.fx * p.x() / p.z() + k.cx));
+    const int v = static_cast<int>(std::lround(k.fy * p.y() / p.z() + k.cy));
+    EXPECT_TRUE(inside.at<uint8_t>(v, u)) << u << " " << v;
+  }
 }
 
 TEST_F(Backfill, TheWallRemovedBesideAPersonWhoLeftIsGivenBack) {

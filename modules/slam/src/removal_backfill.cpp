@@ -310,6 +310,11 @@ void RemovalBackfill::push(Frame frame, const Points& people_w) {
   if (frame.T_w_c && last_pose_) turn = Eigen::AngleAxisd(last_pose_->linear().transpose() * frame.T_w_c->linear()).angle();
   last_pose_ = frame.T_w_c;
   waiting_.push_back({std::move(frame), cv::Mat(), turn});
+  carryEarlierPeopleInto(&waiting_.back());
+  if (!people_w.empty() && options_.frames > 0) earlier_people_.push_back({pushed_, people_w});
+  while (!earlier_people_.empty() && earlier_people_.front().first + options_.frames <= pushed_) {
+    earlier_people_.pop_front();
+  }
   while (waiting_.size() > static_cast<size_t>(options_.frames)) releaseOldest();
 }
 
@@ -340,12 +345,16 @@ void RemovalBackfill::flush() {
 RemovalBackfill::Points RemovalBackfill::personPoints(
     const cv::Mat& depth, const CameraIntrinsics& k, const Eigen::Isometry3d& T_w_c,
     const Floor& floor, int stride) const {
+  cv::Mat inside;
+  cv::erode(depth > 0.f, inside,
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * kOutline + 1, 2 * kOutline + 1)));
   Points points;
   const Eigen::Isometry3f T = T_w_c.cast<float>();
   for (int v = 0; v < depth.rows; v += stride) {
     const float* d = depth.ptr<float>(v);
+    const uint8_t* in = inside.ptr<uint8_t>(v);
     for (int u = 0; u < depth.cols; u += stride) {
-      if (!(d[u] > 0.f)) continue;
+      if (!in[u]) continue;
       const float z = d[u];
       const Eigen::Vector3f p_w = T * Eigen::Vector3f(static_cast<float>((u - k.cx) / k.fx) * z,
                                                       static_cast<float>((v - k.cy) / k.fy) * z, z);
@@ -354,6 +363,15 @@ RemovalBackfill::Points RemovalBackfill::personPoints(
     }
   }
   return points;
+}
+
+void RemovalBackfill::carryEarlierPeopleInto(Waiting* newest) const {
+  // Newest first, stopping as carrying back does: a person seen a moment ago who has not moved
+  // meets the new frame's depth, whether or not the detector found them in it again.
+  int idle = 0;
+  for (auto it = earlier_people_.rbegin(); it != earlier_people_.rend() && idle < kIdleFrames; ++it) {
+    idle = carryInto(it->second, newest) ? 0 : idle + 1;
+  }
 }
 
 bool RemovalBackfill::carryInto(const Points& people_w, Waiting* waiting) const {

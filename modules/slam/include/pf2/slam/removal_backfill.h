@@ -7,7 +7,9 @@
 // within Options::tolerance of a moved point is removed. Who stood still is removed where they
 // stood; who moved since puts their points where the frame saw free space or the scene behind
 // them, farther away, and removes nothing. Points near the floor are not carried back: a person's
-// feet touch the floor where they will stand.
+// feet touch the floor where they will stand. The people found in a frame are carried forward as
+// well, into the Options::frames frames after it: a person seated or standing still whom the
+// detector misses for a while is removed where they stay, by the same rule.
 //
 // The wait also gives depth back: what the filter removed from a frame (a mask's spill onto the
 // floor, the wall or a chair beside a person; the rules beside the masks) whose surface the frames
@@ -50,6 +52,10 @@ class RemovalBackfill {
   // hard cases keep 55-90 % of the gain in the people's depth, and lose less static depth).
   static constexpr int kCarryEvery = 3;
   static constexpr int kStride = 3;
+  // A person's outline this many pixels wide is not carried: the selfie network's mask is blurred
+  // there and takes the chair and the wall beside the person, which would go from every frame the
+  // person is carried into.
+  static constexpr int kOutline = 2;
   // A frame's removed depth is looked for in every kConfirmEvery-th frame before and after it only
   // (five of the thirty each way; consecutive frames see nearly the same: with every third, the
   // six pf2_synth hard cases kept within 0.06 points the same, at a third more of the cost).
@@ -57,7 +63,8 @@ class RemovalBackfill {
   // The floor: the world's up vector and the floor's height along it (metres).
   using Floor = std::optional<std::pair<Eigen::Vector3d, double>>;
   struct Options {
-    int frames = 30;               // frames a frame waits for the people found after it, in
+    int frames = 30;               // frames a frame waits for the people found after it (and
+                                   // frames after a frame its people are carried into), in
                                    // [0, 300]; 0 = off (each frame released at once)
     double tolerance = 0.05;       // metres, plus 1 % of the depth: a later person's point this
                                    // close to a waiting frame's depth removes it, in [0.005, 0.5]
@@ -98,7 +105,8 @@ class RemovalBackfill {
   // Throws pf2::Error naming the option when one is out of range.
   explicit RemovalBackfill(const Options& options);
 
-  // Carries people_w into every waiting frame, adds `frame` and releases (oldest first) the frames
+  // Carries people_w into every waiting frame, adds `frame`, carries the people of the
+  // Options::frames frames before it into it, and releases (oldest first) the frames
   // that have waited Options::frames frames, giving back their removed depth that the frames
   // around them saw kept. Throws pf2::Error when frame.depth is not CV_32F, frame.removed not CV_8U of its
   // size, or frame.measured (frame.people) neither empty nor CV_32F (CV_8U) of its size.
@@ -112,8 +120,9 @@ class RemovalBackfill {
   bool carriesNext() const;
 
   // Every `stride`-th pixel and row of people_depth (CV_32F metres, 0 = not a person's) as world
-  // points, leaving out those within floor_clearance of the floor (up_w . p - floor_height below
-  // it, `floor` = (up_w, floor_height)) when the floor is known.
+  // points, leaving out the kOutline pixels inside its outline and those within floor_clearance
+  // of the floor (up_w . p - floor_height below it, `floor` = (up_w, floor_height)) when the
+  // floor is known.
   Points personPoints(const cv::Mat& people_depth, const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& T_w_c,
                       const Floor& floor, int stride = kStride) const;
 
@@ -128,6 +137,9 @@ class RemovalBackfill {
   // Marks the waiting frame's depth the points meet; true when more than a few of the points in
   // its view meet its depth or its removed pixels.
   bool carryInto(const Points& people_w, Waiting* waiting) const;
+  // Carries the people of the frames pushed before it (earlier_people_) into the newest waiting
+  // frame: a seated or standing person the detector misses in it for a while.
+  void carryEarlierPeopleInto(Waiting* newest) const;
   using OtherView = removal_backfill_internal::OtherView;
   // Every kConfirmEvery-th frame around `frame` (released before it, waiting after it), nearest
   // first, as seen from its camera; `turn` is the frame's Waiting::turn.
@@ -148,6 +160,9 @@ class RemovalBackfill {
 
   Options options_;
   std::deque<Waiting> waiting_;
+  // The people carried back by the frames of the last Options::frames pushed, with the number of
+  // frames pushed when they came (1 = the first), oldest first.
+  std::deque<std::pair<long, Points>> earlier_people_;
   std::deque<Waiting> released_;  // every kConfirmEvery-th frame released, the newest frames / kConfirmEvery
   long pushed_ = 0;               // frames pushed so far
   long released_count_ = 0;       // frames released so far
