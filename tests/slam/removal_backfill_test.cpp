@@ -104,10 +104,16 @@ class Backfill : public testing::Test {
   }
   // The points of the person as found in a frame of a camera at camera_x.
   RemovalBackfill::Points personFound(const RemovalBackfill& backfill, double camera_x, double person_x) {
-    cv::Mat person;
-    cv::Mat people_depth = render(camera_x, person_x, &person);
-    people_depth.setTo(0.f, person == 0);
-    return backfill.personPoints(people_depth, smallCamera(), cameraAt(camera_x), std::nullopt);
+    return backfill.personPoints(personDepth(camera_x, person_x), smallCamera(), cameraAt(camera_x), std::nullopt);
+  }
+  // The person's depth alone (0 elsewhere) as a camera at camera_x sees them; *person (optional)
+  // gets 255 on their pixels.
+  static cv::Mat personDepth(double camera_x, double person_x, cv::Mat* person = nullptr) {
+    cv::Mat mask;
+    cv::Mat people_depth = render(camera_x, person_x, &mask);
+    people_depth.setTo(0.f, mask == 0);
+    if (person) *person = mask;
+    return people_depth;
   }
   std::vector<Released> released;
 };
@@ -210,10 +216,8 @@ TEST_F(Backfill, FramesLeaveInOrderAfterTheirWaitAndNotAtAllWithoutOne) {
 
 TEST_F(Backfill, PointsNearTheFloorAreNotCarried) {
   RemovalBackfill backfill;
-  cv::Mat person;
-  cv::Mat people_depth = render(0.0, 0.0, &person);
-  people_depth.setTo(0.f, person == 0);
-  const RemovalBackfill::Points all = backfill.personPoints(people_depth, smallCamera(), cameraAt(0.0), std::nullopt);
+  const cv::Mat people_depth = personDepth(0.0, 0.0);
+  const RemovalBackfill::Points all = personFound(backfill, 0.0, 0.0);
   // The floor at y = 0.3 (image y points down): up = -y, the floor's height along it -0.3.
   const std::pair<Eigen::Vector3d, double> floor{Eigen::Vector3d(0.0, -1.0, 0.0), -0.3};
   const RemovalBackfill::Points above = backfill.personPoints(people_depth, smallCamera(), cameraAt(0.0), floor);
@@ -228,9 +232,8 @@ TEST_F(Backfill, PointsNearTheFloorAreNotCarried) {
 TEST_F(Backfill, APersonsOutlineIsNotCarried) {
   RemovalBackfill backfill;
   cv::Mat person;
-  cv::Mat people_depth = render(0.0, 0.0, &person);
-  people_depth.setTo(0.f, person == 0);
-  const RemovalBackfill::Points points = backfill.personPoints(people_depth, smallCamera(), cameraAt(0.0), std::nullopt);
+  personDepth(0.0, 0.0, &person);
+  const RemovalBackfill::Points points = personFound(backfill, 0.0, 0.0);
   const cv::Mat inside = insideOutline(person);
   int expected = 0;
   for (int v = 0; v < inside.rows; v += RemovalBackfill::kStride) {
