@@ -121,8 +121,9 @@ void filterSettings(SlamOptions& o, Settings& s) {
            "plus 1 % of the depth: this close to the floor plane is known static (filter.keep_static; 0 = off)");
   s.integer("filter.backfill_frames", &o.backfill.frames, 0, 300, "frames",
             "the map and masks/ get each frame this many frames late, with the people found (mask and pose) in "
-            "those frames removed from it where their depth agrees (someone found late was there before); "
-            "the tracker does not wait; 0 = off");
+            "those frames and in as many frames before it removed from it where their depth agrees (someone "
+            "found late was there before, someone missed for a while has not left); the tracker does not wait; "
+            "0 = off");
   s.number("filter.backfill_tolerance", &o.backfill.tolerance, 0.005, 0.5, "metres",
            "plus 1 % of the depth: a later person's point this close to a frame's depth removes it "
            "(filter.backfill_frames)");
