@@ -223,10 +223,11 @@ TEST_F(Backfill, PointsNearTheFloorAreNotCarried) {
   const RemovalBackfill::Points above = backfill.personPoints(people_depth, smallCamera(), cameraAt(0.0), floor);
   ASSERT_FALSE(all.empty());
   int expected = 0;
-  for (const Eigen::Vector3f& p : all) expected += (0.3 - p.y() >= 0.1) ? 1 : 0;
+  const double clearance = backfill.options().floor_clearance;
+  for (const Eigen::Vector3f& p : all) expected += (0.3 - p.y() >= clearance) ? 1 : 0;
   EXPECT_EQ(static_cast<int>(above.size()), expected);
   EXPECT_LT(above.size(), all.size());
-  for (const Eigen::Vector3f& p : above) EXPECT_GE(0.3 - p.y(), 0.1 - 1e-5);
+  for (const Eigen::Vector3f& p : above) EXPECT_GE(0.3 - p.y(), clearance - 1e-5);
 }
 
 TEST_F(Backfill, APersonsOutlineIsNotCarried) {
@@ -402,6 +403,9 @@ TEST(RemovalBackfillOptions, OutOfRangeOptionsAndMalformedFramesAreRefused) {
   EXPECT_THROW(RemovalBackfill{bad}, Error);
   bad = RemovalBackfill::Options();
   bad.floor_clearance = -0.1;
+  EXPECT_THROW(RemovalBackfill{bad}, Error);
+  bad = RemovalBackfill::Options();
+  bad.give_back_floor_clearance = 1.5;
   EXPECT_THROW(RemovalBackfill{bad}, Error);
   bad = RemovalBackfill::Options();
   bad.give_back_views = 11;

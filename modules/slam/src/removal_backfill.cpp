@@ -279,6 +279,8 @@ RemovalBackfill::RemovalBackfill(const Options& options) : options_(options) {
   check(options.tolerance >= 0.005 && options.tolerance <= 0.5, "tolerance", "[0.005, 0.5] m");
   check(options.floor_clearance >= 0.0 && options.floor_clearance <= 1.0, "floor_clearance", "[0, 1] m");
   check(options.give_back_views >= 0 && options.give_back_views <= 10, "give_back_views", "[0, 10]");
+  check(options.give_back_floor_clearance >= 0.0 && options.give_back_floor_clearance <= 1.0,
+        "give_back_floor_clearance", "[0, 1] m");
   check(options.give_back_tolerance >= 0.005 && options.give_back_tolerance <= 0.5, "give_back_tolerance",
         "[0.005, 0.5] m");
   check(options.seen_through_views >= 0 && options.seen_through_views <= 10, "seen_through_views", "[0, 10]");
@@ -426,7 +428,7 @@ void RemovalBackfill::giveBack(const std::vector<OtherView>& views, Waiting* old
     up_offset = static_cast<float>(frame.floor->first.dot(frame.T_w_c->translation()) - frame.floor->second);
   }
   const CameraIntrinsics& k = frame.intrinsics;
-  const float clearance = static_cast<float>(options_.floor_clearance);
+  const float clearance = static_cast<float>(options_.give_back_floor_clearance);
   // A removed pixel's depth where it may be given back, else 0.
   const auto removed = [&](int u, int v) {
     const float z = frame.measured.ptr<float>(v)[u];

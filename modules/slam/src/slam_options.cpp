@@ -128,8 +128,10 @@ void filterSettings(SlamOptions& o, Settings& s) {
            "plus 1 % of the depth: a later person's point this close to a frame's depth removes it "
            "(filter.backfill_frames)");
   s.number("filter.backfill_floor_clearance", &o.backfill.floor_clearance, 0.0, 1.0, "metres",
-           "a person's points lower than this above the floor are not carried back, nor removed depth given back "
-           "(filter.backfill_frames)");
+           "a person's points lower than this above the floor are not carried (filter.backfill_frames)");
+  s.number("filter.give_back_floor_clearance", &o.backfill.give_back_floor_clearance, 0.0, 1.0, "metres",
+           "removed depth lower than this above the floor is never given back: people's feet stand on it "
+           "(filter.give_back_views)");
   s.integer("filter.give_back_views", &o.backfill.give_back_views, 0, 10, "frames",
             "of every sixth frame in the filter.backfill_frames before and after a frame: this many must have "
             "seen a removed pixel's surface, kept (and twice as many as removed it), for the map and masks/ to "

@@ -68,11 +68,14 @@ class RemovalBackfill {
                                    // [0, 300]; 0 = off (each frame released at once)
     double tolerance = 0.05;       // metres, plus 1 % of the depth: a later person's point this
                                    // close to a waiting frame's depth removes it, in [0.005, 0.5]
-    double floor_clearance = 0.1;  // metres: a person's points lower above the floor are not
-                                   // carried back, nor removed depth given back, in [0, 1]
+    double floor_clearance = 0.05;  // metres: a person's points lower above the floor are not
+                                    // carried (a foot's sole touches the floor where the foot is
+                                    // not yet or no longer), in [0, 1]
     int give_back_views = 3;       // frames around it (every kConfirmEvery-th) that must have seen a
                                    // removed pixel's surface, kept, for it to be given back, in
                                    // [0, 10]; 0 = nothing given back
+    double give_back_floor_clearance = 0.1;  // metres: removed depth lower above the floor is never
+                                             // given back (people's feet stand on it), in [0, 1]
     double give_back_tolerance = 0.03;  // metres, plus 1 % of the depth: another frame's kept depth
                                         // this close to a removed point sees its surface, in
                                         // [0.005, 0.5]
