@@ -80,8 +80,9 @@ class Backfill : public testing::Test {
       r.person_pixels = cv::countNonZero(person);
       r.person_removed = cv::countNonZero(done.removed & person);
       r.wall_removed = cv::countNonZero(done.removed & ~person);
-      r.inside_pixels = cv::countNonZero(insideOutline(person));
-      r.inside_removed = cv::countNonZero(done.removed & insideOutline(person));
+      const cv::Mat inside = insideOutline(person);
+      r.inside_pixels = cv::countNonZero(inside);
+      r.inside_removed = cv::countNonZero(done.removed & inside);
       r.removed = done.removed.clone();
       r.person = person;
       EXPECT_EQ(cv::countNonZero((done.depth > 0.f) & done.removed), 0);  // removed depth is gone

@@ -464,7 +464,7 @@ class SlamSystem::Pipeline {
 
   // The frame's depth for the map and its mask wait in backfill_ for the people that later frames
   // find (RemovalBackfill); this frame's people, found with a mask, are carried back into the
-  // frames waiting before it. A bridged pose is the motion prior's guess: good enough to place
+  // frames waiting before it and forward into the frames after it. A bridged pose is the motion prior's guess: good enough to place
   // people for a moment, not to fuse depth into the map or to carry people by.
   void holdForMap(const Frame& frame, const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered,
                   const Detections& detections, const TrackResult& result, const FrameRecord& record) {
@@ -498,10 +498,10 @@ class SlamSystem::Pipeline {
     backfill_.push(std::move(held), people_w);
   }
 
-  // The depth (CV_32F metres, 0 elsewhere) of the people carried back in time: those found with a
+  // The depth (CV_32F metres, 0 elsewhere) of the people carried in time: those found with a
   // mask and a confident pose, on their own mask, within their keypoints' depth band (the body
   // fit's depth). Boxes without a mask, the rules beside the masks and a mask's spill onto what
-  // stands behind a person take background too, which would then go from the frames before.
+  // stands behind a person take background too, which would then go from the frames around.
   cv::Mat carriedPeople(const DualBBoxFilter::Result& filtered, const Detections& detections,
                         const cv::Size& size) const {
     cv::Mat people = cv::Mat::zeros(size, CV_32F);

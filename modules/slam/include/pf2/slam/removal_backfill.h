@@ -6,8 +6,8 @@
 // with a mask in a later frame is moved into it (with the tracked poses), and its depth that lies
 // within Options::tolerance of a moved point is removed. Who stood still is removed where they
 // stood; who moved since puts their points where the frame saw free space or the scene behind
-// them, farther away, and removes nothing. Points near the floor are not carried back: a person's
-// feet touch the floor where they will stand. The people found in a frame are carried forward as
+// them, farther away, and removes nothing. Points near the floor (Options::floor_clearance) are not
+// carried: a person's feet touch the floor where they will stand. The people found in a frame are carried forward as
 // well, into the Options::frames frames after it: a person seated or standing still whom the
 // detector misses for a while is removed where they stay, by the same rule.
 //
