@@ -8,6 +8,7 @@
 
 #include "pf2/core/error.h"
 #include "pf2/detection/keypoint_depth.h"
+#include "pf2/detection/pose_skeleton.h"
 #include "image_ops.h"
 
 namespace pf2 {
@@ -489,17 +490,9 @@ void keepOutsideMasks(cv::Mat pixels, const std::vector<FilterBox>& boxes, cv::M
   state.setTo(kKept, pixels);
 }
 
-// The COCO-17 keypoints, and the pairs of them joined by a limb (and the nose to each shoulder).
-constexpr int kCocoKeypoints = 17;
-const int kLimbs[][2] = {{5, 6}, {5, 7}, {7, 9}, {6, 8}, {8, 10}, {5, 11}, {6, 12}, {11, 12},
-                         {11, 13}, {13, 15}, {12, 14}, {14, 16}, {0, 5}, {0, 6}};
-// A limb's width as a share of the person's box height (a forearm or shin of a standing person is
-// about a tenth of their height).
-constexpr double kLimbWidthShare = 0.1;
-
 // `pixels` (known static) without the people the segmenter missed but the pose network found (no
 // mask, at least joint_min_count keypoints scored joint_min_score): on their skeleton, limbs drawn
-// kLimbWidthShare of the box's height wide and the torso filled, the pixels their box rule
+// kSkeletonLimbWidthShare of the box's height wide and the torso filled, the pixels their box rule
 // labelled stay removed. A person seated since the first keyframe is "static" to the prediction,
 // and without this the static evidence gave them back to the map (pf2_synth rpy, a seated person
 // in dark clothes in frames 48-57: 27 -> 92 % of them removed; docs/BENCHMARKS.md).
@@ -509,22 +502,13 @@ cv::Mat withoutPosedPeople(cv::Mat pixels, const std::vector<FilterBox>& boxes, 
   for (size_t t = 0; t < boxes.size(); ++t) {
     const FilterBox& b = boxes[t];
     const std::vector<Keypoint2d>& k = detections.people[b.detection].keypoints;
-    if (!b.mask.empty() || k.size() < static_cast<size_t>(kCocoKeypoints)) continue;
+    if (!b.mask.empty()) continue;
     int confident = 0;
     for (const Keypoint2d& p : k) confident += p.score >= o.joint_min_score;
     if (confident < std::max(1, o.joint_min_count)) continue;
     // Drawn on the box alone (lines leaving it are clipped): only the box's labels are read.
-    cv::Mat skeleton = cv::Mat::zeros(b.rect.size(), CV_8U);
-    const int thickness = std::max(3, static_cast<int>(kLimbWidthShare * b.rect.height));
-    auto seen = [&](int i) { return k[i].score >= o.joint_min_score; };
-    auto at = [&](int i) { return cv::Point(cvRound(k[i].u) - b.rect.x, cvRound(k[i].v) - b.rect.y); };
-    for (const auto& limb : kLimbs) {
-      if (seen(limb[0]) && seen(limb[1])) cv::line(skeleton, at(limb[0]), at(limb[1]), 255, thickness);
-    }
-    if (seen(5) && seen(6) && seen(11) && seen(12)) {
-      const std::vector<cv::Point> torso{at(5), at(6), at(12), at(11)};
-      cv::fillConvexPoly(skeleton, torso, 255);
-    }
+    const int thickness = std::max(3, static_cast<int>(kSkeletonLimbWidthShare * b.rect.height));
+    const cv::Mat skeleton = poseSkeleton(k, b.rect, o.joint_min_score, thickness);
     const uint8_t label = static_cast<uint8_t>(t + 1);
     cv::Mat mine = (state(b.rect) == label) & skeleton;
     pixels(b.rect).setTo(0, mine);

@@ -148,6 +148,52 @@ TEST(BodyDepth, KeepsOnlyTheDepthsOfTheBodyTheKeypointsLieOn) {
   EXPECT_EQ(cv::countNonZero(bodyDepthOf(scene, off)), 24 * 80);
 }
 
+// A person seated at 2 m, posed without a mask: their box (100 x 200 pixels) also holds the chair
+// beside them at 2.1 m and the wall at 4 m; a patch of their torso reads 3 m (seen past them).
+struct SeatedBoxOnly {
+  DualBBoxFilter::Person person;
+  PersonDetection detection;
+  SeatedBoxOnly() {
+    person.detection = 0;
+    person.box = {200.f, 100.f, 300.f, 300.f};
+    person.area = cv::Rect(200, 100, 100, 200);
+    person.depth = cv::Mat(200, 100, CV_32F, cv::Scalar(4.0f));
+    person.depth(cv::Rect(25, 20, 51, 176)).setTo(2.0f);  // image x 225-275, y 120-295
+    person.depth(cv::Rect(80, 80, 20, 80)).setTo(2.1f);   // the chair: x 280-299, y 180-259
+    person.depth(cv::Rect(45, 60, 11, 11)).setTo(3.0f);   // x 245-255, y 160-170
+    person.mask = person.depth > 0.f;
+    detection.keypoints.assign(17, Keypoint2d{0.f, 0.f, 0.f});
+    const float u[2] = {235.f, 265.f};
+    for (int side = 0; side < 2; ++side) {
+      detection.keypoints[5 + side] = {u[side], 130.f, 0.9f};   // shoulders
+      detection.keypoints[11 + side] = {u[side], 200.f, 0.9f};  // hips
+      detection.keypoints[13 + side] = {u[side], 250.f, 0.9f};  // knees
+      detection.keypoints[15 + side] = {u[side], 290.f, 0.9f};  // ankles
+    }
+  }
+};
+
+TEST(PosedBodyDepth, KeepsTheSkeletonsDepthsNotTheChairBesideOrWhatLiesBehind) {
+  const SeatedBoxOnly scene;
+  const SlamOptions options;
+  ASSERT_LT(options.human_joint_band, 0.9);  // the 3 m patch lies outside the band
+  const cv::Mat own = posedBodyDepth(scene.person, scene.detection, options);
+  ASSERT_EQ(own.size(), scene.person.depth.size());
+  EXPECT_FLOAT_EQ(own.at<float>(50, 25), 2.0f);  // the torso, between the shoulders and the hips
+  EXPECT_FLOAT_EQ(own.at<float>(170, 35), 2.0f);  // a shin
+  EXPECT_EQ(cv::countNonZero(own(cv::Rect(80, 80, 20, 80))), 0);  // the chair
+  EXPECT_EQ(cv::countNonZero(own(cv::Rect(45, 60, 11, 11))), 0);  // the 3 m patch
+  EXPECT_EQ(cv::countNonZero(own == 4.0f), 0);                    // the wall
+  // Only the 2 m body, and most of it: the torso filled, the legs 20 px wide (a tenth of the box).
+  EXPECT_EQ(cv::countNonZero(own), cv::countNonZero(own == 2.0f));
+  EXPECT_GT(cv::countNonZero(own), 6000);
+  // Fewer confident keypoints with depth than filter.joint_min_count: nothing is theirs.
+  SeatedBoxOnly unsure;
+  for (int i = 5; i < 17; ++i) unsure.detection.keypoints[i].score = i < 7 ? 0.9f : 0.1f;
+  ASSERT_GT(options.filter.joint_min_count, 2);
+  EXPECT_TRUE(posedBodyDepth(unsure.person, unsure.detection, options).empty());
+}
+
 // One body seen as two people: the centre of a person behind a near one, whose depths were the
 // near one's, lies beside the near one's centre.
 TEST(PersonCentres, OfTwoCentresOfOneBodyTheOneOnFewerDepthsIsDropped) {

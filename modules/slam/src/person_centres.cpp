@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "pf2/detection/keypoint_depth.h"
+#include "pf2/detection/pose_skeleton.h"
 #include "pf2/humans/human_position.h"
 #include "pf2/core/median.h"
 
@@ -250,6 +251,20 @@ cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& ban
   // surface alignment) onto their surface.
   cv::Mat own = cv::Mat::zeros(person.depth.size(), CV_32F);
   person.depth.copyTo(own, (person.depth > band.min) & (person.depth < band.max));
+  return own;
+}
+
+cv::Mat posedBodyDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                       const SlamOptions& options) {
+  const double joints =
+      medianDepthAtKeypoints(person.depth, person.area.tl(), detection.keypoints, options.filter.joint_min_score,
+                             std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
+  if (!(joints > 0.0) || !(options.human_joint_band > 0.0)) return cv::Mat();
+  const int limb_width = std::max(3, static_cast<int>(kSkeletonLimbWidthShare * person.box.height()));
+  const cv::Mat skeleton = poseSkeleton(detection.keypoints, person.area, options.filter.joint_min_score, limb_width);
+  cv::Mat own = cv::Mat::zeros(person.depth.size(), CV_32F);
+  person.depth.copyTo(own, skeleton & (person.depth > joints - options.human_joint_band) &
+                               (person.depth < joints + options.human_joint_band));
   return own;
 }
 

@@ -463,7 +463,7 @@ class SlamSystem::Pipeline {
   }
 
   // The frame's depth for the map and its mask wait in backfill_ for the people that later frames
-  // find (RemovalBackfill); this frame's people, found with a mask, are carried back into the
+  // find (RemovalBackfill); this frame's posed people are carried back into the
   // frames waiting before it and forward into the frames after it. A bridged pose is the motion prior's guess: good enough to place
   // people for a moment, not to fuse depth into the map or to carry people by.
   void holdForMap(const Frame& frame, const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered,
@@ -500,19 +500,26 @@ class SlamSystem::Pipeline {
 
   // The depth (CV_32F metres, 0 elsewhere) of the people carried in time: those found with a
   // mask and a confident pose, on their own mask, within their keypoints' depth band (the body
-  // fit's depth). Boxes without a mask, the rules beside the masks and a mask's spill onto what
-  // stands behind a person take background too, which would then go from the frames around.
+  // fit's depth); those posed without a mask on their skeleton, within the same band (a person
+  // seated a few metres away whom the segmenter never masks: pf2_synth rpy). A box without a pose,
+  // the rules beside the masks and a mask's spill onto what stands behind a person take
+  // background too, which would then go from the frames around.
   cv::Mat carriedPeople(const DualBBoxFilter::Result& filtered, const Detections& detections,
                         const cv::Size& size) const {
     cv::Mat people = cv::Mat::zeros(size, CV_32F);
     for (const DualBBoxFilter::Person& person : ownParts(filtered.people, detections, options_)) {
       if (person.detection < 0 || person.detection >= static_cast<int>(detections.people.size())) continue;
       const PersonDetection& detection = detections.people[person.detection];
-      if (detection.mask.empty() || detection.score <= options_.filter.min_confidence) continue;
+      if (detection.score <= options_.filter.min_confidence) continue;
+      cv::Mat area = people(person.area);
+      if (detection.mask.empty()) {
+        const cv::Mat body = posedBodyDepth(person, detection, options_);
+        if (!body.empty()) body.copyTo(area, body > 0.f);
+        continue;
+      }
       const BodyDepthBand band = keypointDepthBand(person, detection, options_, cv::countNonZero(person.mask));
       if (band.empty()) continue;
       const cv::Mat body = bodyDepth(person, band);
-      cv::Mat area = people(person.area);
       body.copyTo(area, detection.mask(person.area) & (body > 0.f));
     }
     return people;

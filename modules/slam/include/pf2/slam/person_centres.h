@@ -65,6 +65,14 @@ double keypointShareOnPerson(const DualBBoxFilter::Person& person, const PersonD
 // person.depth itself (shared) when the band is empty. Thread safe.
 cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& band);
 
+// What a person posed without a mask has of their own depth: person.depth on their skeleton
+// (poseSkeleton, limbs kSkeletonLimbWidthShare of their box's height wide, keypoints scored
+// filter.joint_min_score) within human_joint_band of the median depth under those keypoints;
+// empty when fewer than filter.joint_min_count of them have depth. Their box holds the chair and
+// the wall beside them at their depth as well. Thread safe.
+cv::Mat posedBodyDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                       const SlamOptions& options);
+
 // The people as the humans stage sees them: each of `people` whose detection (in `detections`)
 // has at least filter.joint_min_count keypoints scored filter.joint_min_score or more, more than
 // human_max_outside_pose of whose depths lie outside the region their body may fill (the box of

@@ -3,8 +3,8 @@
 // only now was often in the frames before as well: standing at the border until the camera's pan
 // showed enough of them, seated before MoveNet found them, seen from above. Each frame waits
 // Options::frames frames before it goes to the map; meanwhile the depth of every person found
-// with a mask in a later frame is moved into it (with the tracked poses), and its depth that lies
-// within Options::tolerance of a moved point is removed. Who stood still is removed where they
+// with a confident pose in a later frame is moved into it (with the tracked poses), and its depth
+// that lies within Options::tolerance of a moved point is removed. Who stood still is removed where they
 // stood; who moved since puts their points where the frame saw free space or the scene behind
 // them, farther away, and removes nothing. Points near the floor (Options::floor_clearance) are not
 // carried: a person's feet touch the floor where they will stand. The people found in a frame are carried forward as
