@@ -120,7 +120,7 @@ void filterSettings(SlamOptions& o, Settings& s) {
   s.number("filter.floor_margin", &o.floor_margin, 0.0, 0.5, "metres",
            "plus 1 % of the depth: this close to the floor plane is known static (filter.keep_static; 0 = off)");
   s.integer("filter.backfill_frames", &o.backfill.frames, 0, 300, "frames",
-            "the map and masks/ get each frame this many frames late, with the people found (mask and pose) in "
+            "the map and masks/ get each frame this many frames late, with the people found with a pose in "
             "those frames and in as many frames before it removed from it where their depth agrees (someone "
             "found late was there before, someone missed for a while has not left); the tracker does not wait; "
             "0 = off");
