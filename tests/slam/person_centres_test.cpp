@@ -194,6 +194,65 @@ TEST(PosedBodyDepth, KeepsTheSkeletonsDepthsNotTheChairBesideOrWhatLiesBehind) {
   EXPECT_TRUE(posedBodyDepth(unsure.person, unsure.detection, options).empty());
 }
 
+// A person at 2 m seen from above, their mask spilled over the wall behind them: the person's
+// dilated mask covers their 260 x 200 pixel area. Columns 40-99 are the body: at 2 m down to row
+// 149, the lower legs and feet below at 3.2 m (seen from above, with the knee and ankle keypoints
+// on them). Beside the body, columns 0-39 hold the chair they lean on at 2.2 m down to row 99;
+// columns 100-115 the wall at 3.5 m down to row 119 (the mask's spill), columns 140-199 a second
+// person at 3.5 m the mask took in too, nothing measured between.
+struct SpilledMask {
+  DualBBoxFilter::Person person;
+  Detections detections;
+  SpilledMask() {
+    person.detection = 0;
+    person.area = cv::Rect(100, 100, 260, 200);
+    person.box = {140.f, 100.f, 200.f, 300.f};
+    person.depth = cv::Mat::zeros(200, 260, CV_32F);
+    person.depth(cv::Rect(40, 0, 60, 150)).setTo(2.0f);
+    person.depth(cv::Rect(40, 150, 60, 50)).setTo(3.2f);
+    person.depth(cv::Rect(0, 0, 40, 100)).setTo(2.2f);
+    person.depth(cv::Rect(100, 0, 16, 120)).setTo(3.5f);
+    person.depth(cv::Rect(140, 0, 60, 200)).setTo(3.5f);
+    person.mask = person.depth > 0.f;
+    PersonDetection detection;
+    detection.score = 0.9f;
+    detection.mask = cv::Mat::zeros(480, 640, CV_8U);
+    detection.mask(person.area).setTo(255);
+    detection.keypoints.assign(17, Keypoint2d{0.f, 0.f, 0.f});
+    detection.keypoints[0] = {170.f, 105.f, 0.9f};  // nose
+    const float u[2] = {150.f, 190.f};
+    for (int side = 0; side < 2; ++side) {
+      detection.keypoints[5 + side] = {u[side], 110.f, 0.9f};   // shoulders
+      detection.keypoints[11 + side] = {u[side], 200.f, 0.9f};  // hips
+      detection.keypoints[13 + side] = {u[side], 255.f, 0.9f};  // knees, on the 3.2 m lower legs
+      detection.keypoints[15 + side] = {u[side], 290.f, 0.9f};  // ankles
+    }
+    detections.people.push_back(detection);
+  }
+  cv::Mat behind(double margin) const {
+    return depthBehindBodies({person}, detections, SlamOptions(), margin, cv::Size(640, 480))(person.area);
+  }
+};
+
+TEST(DepthBehindBodies, IsTheSpillOntoTheWallBehindNotTheBodyTheChairOrAPersonFurtherIn) {
+  const SpilledMask scene;
+  const cv::Mat behind = scene.behind(0.5);
+  ASSERT_EQ(behind.size(), scene.person.depth.size());
+  // The wall strip next to the body: all of it, and nothing else.
+  EXPECT_EQ(cv::countNonZero(behind(cv::Rect(100, 0, 16, 120))), 16 * 120);
+  EXPECT_EQ(cv::countNonZero(behind), 16 * 120);
+  // The lower legs (1.2 m behind the body's band, 0.8 m is the band's half width plus the margin)
+  // lie at their own keypoints' depth; the chair lies in the band; the second person is more
+  // than kBehindBodyReach pixels from the body.
+  ASSERT_LT(kBehindBodyReach, 140 - 100);
+  // A margin wider than the wall lies behind the body: nothing.
+  EXPECT_EQ(cv::countNonZero(scene.behind(1.3)), 0);
+  // No keypoints to say where the body is: nothing.
+  SpilledMask unposed;
+  for (Keypoint2d& k : unposed.detections.people[0].keypoints) k.score = 0.1f;
+  EXPECT_EQ(cv::countNonZero(unposed.behind(0.5)), 0);
+}
+
 // One body seen as two people: the centre of a person behind a near one, whose depths were the
 // near one's, lies beside the near one's centre.
 TEST(PersonCentres, OfTwoCentresOfOneBodyTheOneOnFewerDepthsIsDropped) {

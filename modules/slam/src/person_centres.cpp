@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
 #include "pf2/detection/keypoint_depth.h"
 #include "pf2/detection/pose_skeleton.h"
 #include "pf2/humans/human_position.h"
@@ -266,6 +268,74 @@ cv::Mat posedBodyDepth(const DualBBoxFilter::Person& person, const PersonDetecti
   person.depth.copyTo(own, skeleton & (person.depth > joints - options.human_joint_band) &
                                (person.depth < joints + options.human_joint_band));
   return own;
+}
+
+namespace {
+
+// A confident keypoint on a person's depth: where (on person.area) and the depth there (metres).
+struct KeypointDepth {
+  cv::Point at;
+  float depth = 0.f;
+};
+
+std::vector<KeypointDepth> keypointDepths(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                                          double min_score) {
+  std::vector<KeypointDepth> keypoints;
+  const cv::Rect area(0, 0, person.area.width, person.area.height);
+  for (const Keypoint2d& k : detection.keypoints) {
+    const cv::Point at(cvRound(k.u) - person.area.x, cvRound(k.v) - person.area.y);
+    if (!(k.score >= min_score) || !area.contains(at)) continue;
+    const float depth = person.depth.at<float>(at);
+    if (depth > 0.f) keypoints.push_back({at, depth});
+  }
+  return keypoints;
+}
+
+// Clears the pixels of `behind` (CV_8U on person.area) whose depth lies no more than `reach`
+// (metres) behind the depth of the nearest of `keypoints`.
+void clearNearKeypointDepth(const cv::Mat& depth, const std::vector<KeypointDepth>& keypoints, float reach,
+                            cv::Mat* behind) {
+  for (int v = 0; v < behind->rows; ++v) {
+    uint8_t* b = behind->ptr<uint8_t>(v);
+    const float* z = depth.ptr<float>(v);
+    for (int u = 0; u < behind->cols; ++u) {
+      if (!b[u]) continue;
+      const KeypointDepth* nearest = nullptr;
+      long nearest_distance = 0;
+      for (const KeypointDepth& k : keypoints) {
+        const long du = u - k.at.x, dv = v - k.at.y, distance = du * du + dv * dv;
+        if (!nearest || distance < nearest_distance) nearest = &k, nearest_distance = distance;
+      }
+      if (z[u] <= nearest->depth + reach) b[u] = 0;
+    }
+  }
+}
+
+}  // namespace
+
+cv::Mat depthBehindBodies(const std::vector<DualBBoxFilter::Person>& people, const Detections& detections,
+                          const SlamOptions& options, double margin, const cv::Size& size) {
+  cv::Mat behind = cv::Mat::zeros(size, CV_8U);
+  for (const DualBBoxFilter::Person& person : people) {
+    if (person.detection < 0 || person.detection >= static_cast<int>(detections.people.size())) continue;
+    const PersonDetection& detection = detections.people[person.detection];
+    const BodyDepthBand band = keypointDepthBand(person, detection, options, cv::countNonZero(person.mask));
+    if (band.empty()) continue;
+    const std::vector<KeypointDepth> keypoints = keypointDepths(person, detection, options.filter.joint_min_score);
+    if (keypoints.empty()) continue;
+    cv::Mat far = person.depth > band.max + margin;
+    if (cv::countNonZero(far) == 0) continue;
+    // Within kBehindBodyReach of the body (its depths in the band), across or along the image's
+    // axes: a square grown around it (a separable and cheap dilation).
+    cv::Mat near_body;
+    cv::dilate((person.depth > band.min) & (person.depth < band.max), near_body,
+               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kBehindBodyReach + 1, 2 * kBehindBodyReach + 1)));
+    far &= near_body;
+    clearNearKeypointDepth(person.depth, keypoints, static_cast<float>(options.human_joint_band + margin), &far);
+    cv::Mat area = behind(person.area);
+    area |= far;
+  }
+  return behind;
 }
 
 namespace {

@@ -119,6 +119,10 @@ void filterSettings(SlamOptions& o, Settings& s) {
            "plus 1 % of the depth: this close to the prediction is known static (filter.keep_static)");
   s.number("filter.floor_margin", &o.floor_margin, 0.0, 0.5, "metres",
            "plus 1 % of the depth: this close to the floor plane is known static (filter.keep_static; 0 = off)");
+  s.number("filter.behind_body_margin", &o.behind_body_margin, 0.0, 5.0, "metres",
+           "depth under a posed person's mask more than this behind their body (their keypoints' depth band and "
+           "their nearest keypoint's depth, humans.joint_band) goes to the map and masks/, not to the tracker: "
+           "the mask's spill onto what stands behind them; 0 = off");
   s.integer("filter.backfill_frames", &o.backfill.frames, 0, 300, "frames",
             "the map and masks/ get each frame this many frames late, with the people found with a pose in "
             "those frames and in as many frames before it removed from it where their depth agrees (someone "

@@ -465,24 +465,28 @@ class SlamSystem::Pipeline {
   // The frame's depth for the map and its mask wait in backfill_ for the people that later frames
   // find (RemovalBackfill); this frame's posed people are carried back into the
   // frames waiting before it and forward into the frames after it. A bridged pose is the motion prior's guess: good enough to place
-  // people for a moment, not to fuse depth into the map or to carry people by.
+  // people for a moment, not to fuse depth into the map or to carry people by. The depth well
+  // behind the people's bodies goes back to the frame first (giveBehindBodiesToMap).
   void holdForMap(const Frame& frame, const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered,
                   const Detections& detections, const TrackResult& result, const FrameRecord& record) {
     ScopedStageTimer timer(stats_, "backfill");
     const bool measured = record.has_pose && result.status != TrackStatus::kBridged;
-    const bool waits = options_.backfill.frames > 0;
+    const bool gives_behind = removal_ && options_.behind_body_margin > 0.0;
+    const bool changes = options_.backfill.frames > 0 || gives_behind;
     RemovalBackfill::Frame held;
-    // The live result shares these images: a frame that waits gets its own copies to change.
-    held.depth = waits ? static_depth.clone() : static_depth;
+    // The live result shares these images: a frame whose images change gets its own copies.
+    held.depth = changes ? static_depth.clone() : static_depth;
     held.removed = filtered.removed.empty() ? cv::Mat::zeros(static_depth.size(), CV_8U)
-                                            : (waits ? filtered.removed.clone() : filtered.removed);
+                                            : (changes ? filtered.removed.clone() : filtered.removed);
     if (measured) held.T_w_c = result.T_w_c;
     if (floor_.found()) held.floor = std::make_pair(up_.up_w(), floor_.height());
     held.intrinsics = frame.intrinsics;
-    const bool looks_around = removal_ && measured && waits &&
+    const bool looks_around = removal_ && measured && options_.backfill.frames > 0 &&
                               (options_.backfill.give_back_views > 0 || options_.backfill.seen_through_views > 0);
     const bool carries = removal_ && measured && backfill_.carriesNext();
-    const cv::Mat people = (looks_around || carries) ? carriedPeople(filtered, detections, frame.depth.size()) : cv::Mat();
+    const cv::Mat people =
+        (looks_around || carries || gives_behind) ? carriedPeople(filtered, detections, frame.depth.size()) : cv::Mat();
+    if (gives_behind) giveBehindBodiesToMap(frame.depth, filtered, detections, people, &held);
     if (looks_around) {
       held.measured = frame.depth;  // read only
       held.people = people > 0.f;
@@ -496,6 +500,18 @@ class SlamSystem::Pipeline {
     RemovalBackfill::Points people_w;
     if (carries) people_w = backfill_.personPoints(people, frame.intrinsics, result.T_w_c, held.floor);
     backfill_.push(std::move(held), people_w);
+  }
+
+  // Gives the depth well behind the people's bodies (depthBehindBodies) that the filter removed
+  // back to `held`, except on any person's own body (`people`, carriedPeople's): the wall or the
+  // chair behind a person, for the map and masks/ (the tracker has the filter's depth).
+  void giveBehindBodiesToMap(const cv::Mat& measured, const DualBBoxFilter::Result& filtered,
+                             const Detections& detections, const cv::Mat& people, RemovalBackfill::Frame* held) const {
+    cv::Mat behind = depthBehindBodies(filtered.people, detections, options_, options_.behind_body_margin,
+                                       measured.size()) & held->removed;
+    behind.setTo(0, people > 0.f);
+    measured.copyTo(held->depth, behind);
+    held->removed.setTo(0, behind);
   }
 
   // The depth (CV_32F metres, 0 elsewhere) of the people carried in time: those found with a

@@ -62,6 +62,12 @@ struct SlamOptions {
   // `backfill.frames` frames late, with the people found in those later frames removed from it
   // too; the tracker and the live results never wait. 0 frames = off.
   RemovalBackfill::Options backfill;
+  // metres, in [0, 5]; 0 = off: the depth under a posed person's mask lying more than this behind
+  // their body (depthBehindBodies in person_centres.h) goes to the map and masks/, not to the
+  // tracker: the selfie mask's spill onto the wall, the desk or the chair behind them. pf2_synth,
+  // learned detector: 0.1-1.1 points more of the static depth kept, up to 0.2 fewer of the
+  // people removed (docs/BENCHMARKS.md).
+  double behind_body_margin = 0.5;
   Tracker::Options tracker;
   // trajectory.txt's positions smoothed over time at the end of the run (TrajectorySmoother);
   // the map, the people and the live poses use the poses as measured.
