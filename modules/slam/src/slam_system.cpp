@@ -463,10 +463,11 @@ class SlamSystem::Pipeline {
   }
 
   // The frame's depth for the map and its mask wait in backfill_ for the people that later frames
-  // find (RemovalBackfill); this frame's posed people are carried back into the
-  // frames waiting before it and forward into the frames after it. A bridged pose is the motion prior's guess: good enough to place
-  // people for a moment, not to fuse depth into the map or to carry people by. The depth well
-  // behind the people's bodies goes back to the frame first (giveBehindBodiesToMap).
+  // find (RemovalBackfill); this frame's posed people are carried back into the frames waiting
+  // before it and forward into the frames after it. A bridged pose is the motion prior's guess:
+  // good enough to place people for a moment, not to fuse depth into the map or to carry people
+  // by. The depth well behind the people's bodies goes back to the frame first
+  // (giveBehindBodiesToMap).
   void holdForMap(const Frame& frame, const cv::Mat& static_depth, const DualBBoxFilter::Result& filtered,
                   const Detections& detections, const TrackResult& result, const FrameRecord& record) {
     ScopedStageTimer timer(stats_, "backfill");

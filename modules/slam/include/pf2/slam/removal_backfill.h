@@ -4,12 +4,13 @@
 // showed enough of them, seated before MoveNet found them, seen from above. Each frame waits
 // Options::frames frames before it goes to the map; meanwhile the depth of every person found
 // with a confident pose in a later frame is moved into it (with the tracked poses), and its depth
-// that lies within Options::tolerance of a moved point is removed. Who stood still is removed where they
-// stood; who moved since puts their points where the frame saw free space or the scene behind
-// them, farther away, and removes nothing. Points near the floor (Options::floor_clearance) are not
-// carried: a person's feet touch the floor where they will stand. The people found in a frame are carried forward as
-// well, into the Options::frames frames after it: a person seated or standing still whom the
-// detector misses for a while is removed where they stay, by the same rule.
+// that lies within Options::tolerance of a moved point is removed. Who stood still is removed
+// where they stood; who moved since puts their points where the frame saw free space or the scene
+// behind them, farther away, and removes nothing. Points near the floor (Options::floor_clearance)
+// are not carried: a person's feet touch the floor where they will stand. The people found in a
+// frame are carried forward as well, into the Options::frames frames after it: a person seated or
+// standing still whom the detector misses for a while is removed where they stay, by the same
+// rule.
 //
 // The wait also gives depth back: what the filter removed from a frame (a mask's spill onto the
 // floor, the wall or a chair beside a person; the rules beside the masks) whose surface the frames
