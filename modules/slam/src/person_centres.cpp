@@ -14,12 +14,22 @@
 
 namespace pf2 {
 
+namespace {
+
+// The median of person.depth under the detection's confident keypoints (filter.joint_min_score, at
+// least filter.joint_min_count of them); 0 when fewer have depth.
+double keypointsMedianDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection,
+                            const SlamOptions& options) {
+  return medianDepthAtKeypoints(person.depth, person.area.tl(), detection.keypoints, options.filter.joint_min_score,
+                                std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
+}
+
+}  // namespace
+
 BodyDepthBand keypointDepthBand(const DualBBoxFilter::Person& person, const PersonDetection& detection,
                                 const SlamOptions& options, long own_pixels) {
   if (detection.mask.empty() || !(options.human_joint_band > 0.0) || own_pixels == 0) return {};
-  const double joints =
-      medianDepthAtKeypoints(person.depth, person.area.tl(), detection.keypoints, options.filter.joint_min_score,
-                             std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
+  const double joints = keypointsMedianDepth(person, detection, options);
   if (joints <= 0.0) return {};
   BodyDepthBand band{joints - options.human_joint_band, joints + options.human_joint_band};
   long near_pixels = 0;
@@ -258,9 +268,7 @@ cv::Mat bodyDepth(const DualBBoxFilter::Person& person, const BodyDepthBand& ban
 
 cv::Mat posedBodyDepth(const DualBBoxFilter::Person& person, const PersonDetection& detection,
                        const SlamOptions& options) {
-  const double joints =
-      medianDepthAtKeypoints(person.depth, person.area.tl(), detection.keypoints, options.filter.joint_min_score,
-                             std::max(1, options.filter.joint_min_count), std::numeric_limits<double>::infinity());
+  const double joints = keypointsMedianDepth(person, detection, options);
   if (!(joints > 0.0) || !(options.human_joint_band > 0.0)) return cv::Mat();
   const int limb_width = std::max(3, static_cast<int>(kSkeletonLimbWidthShare * person.box.height()));
   const cv::Mat skeleton = poseSkeleton(detection.keypoints, person.area, options.filter.joint_min_score, limb_width);
