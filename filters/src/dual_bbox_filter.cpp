@@ -722,8 +722,9 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
     keepOutsideMasks(depth_gate_.outsidePeople(depth, personCore(depth, boxes, detections, intervals, human_margin)),
                      boxes, state_);
   }
-  const cv::Mat dynamic =
-      o.geometric ? geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation) : cv::Mat();
+  // Without the geometric addition, the evidence still confirms the detector's sure candidates and
+  // reports what it knows as static (PersonRemoval: the floor plane; no prediction).
+  const cv::Mat dynamic = geometric_.dynamicMask(depth, detections, o.min_confidence, o.mask_dilation, o.geometric);
   const cv::Mat known = dynamic.empty() ? cv::Mat() : geometric_.knownStatic(depth, dynamic);
   cv::Mat map_only = o.keep_static_behind_masks && !known.empty()
                          ? staticUnderMasks(depth, known, boxes, detections, intervals, human_margin, state_)

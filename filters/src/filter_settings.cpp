@@ -46,7 +46,8 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->integer("filter.temporal_max_age", &t.max_age, 0, 254, "frames", "frames a pixel is guarded without a box");
   s->boolean("filter.geometric", &f->geometric,
              "remove depth in front of a predicted static depth (pf2_slam: the newest keyframes'; pf2_detect: "
-             "the farthest depth seen so far)");
+             "the farthest depth seen so far); off, the detector's sure candidates and pf2_slam's floor plane still "
+             "count");
   s->number("filter.candidate_min_dynamic", &f->geometric_addition.candidate_min_dynamic, 0.0, 1.0, "fraction",
             "share of a detector candidate's measured pixels in front of the prediction that makes it a person "
             "(0 = candidates ignored)");

@@ -12,9 +12,9 @@ namespace pf2 {
 // The filter applies the mask in its output pass; the pixels it removes keep their state (kept),
 // so they are not carried to the next frame: they may be background.
 cv::Mat GeometricAddition::dynamicMask(const cv::Mat& depth, const Detections& detections, double min_confidence,
-                                       int mask_dilation) {
+                                       int mask_dilation, bool evidence_dynamic) {
   if (!evidence_) return cv::Mat();
-  cv::Mat dynamic = evidence_->dynamicMask(depth);
+  cv::Mat dynamic = evidence_dynamic ? evidence_->dynamicMask(depth) : cv::Mat::zeros(depth.size(), CV_8U);
   if (dynamic.size() != depth.size() || dynamic.type() != CV_8U) {
     throw Error("DualBBoxFilter: DynamicEvidence returned a mask that is not CV_8U of the depth's size");
   }

@@ -31,10 +31,9 @@ DualBBoxFilter::Result PersonRemoval::filter(const Frame& frame, const Detection
                                              const std::optional<Eigen::Hyperplane<double, 3>>& floor_c) {
   ScopedStageTimer timer(stats, "filter");
   filter_.setIntrinsics(frame.intrinsics);
-  if (options_.filter.geometric) {
-    evidence_->setPrediction(prediction);
-    evidence_->setStaticPlane(floor_c, frame.intrinsics);
-  }
+  // Without the geometric addition the prediction's static opinion goes too; the floor stays.
+  evidence_->setPrediction(options_.filter.geometric ? prediction : cv::Mat());
+  evidence_->setStaticPlane(floor_c, frame.intrinsics);
   return filter_.filter(frame.depth, detections, T_cur_prev);
 }
 

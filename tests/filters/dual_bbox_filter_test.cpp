@@ -689,6 +689,50 @@ TEST(PredictedDepthEvidence, TheFloorPlaneIsStaticWhatStandsOnItIsNot) {
   EXPECT_EQ(cv::countNonZero(kept.removed(scene.body)), scene.body.area());
 }
 
+// Without the geometric addition (no residual against a prediction), an evidence given to the
+// filter still confirms the candidates the detector is sure of and its static opinion (here the
+// floor plane alone) still gives back what a box rule took; its dynamic opinion is not used: a
+// candidate it alone would confirm stays, as does depth in front of the prediction.
+TEST(DualBBoxFilter, WithoutTheGeometricAdditionSureCandidatesAndTheFloorStillCount) {
+  const FloorScene scene;
+  auto evidence = std::make_shared<PredictedDepthEvidence>(0.15);
+  evidence->setPlaneMargin(0.03);
+  evidence->setStaticPlane(scene.floor_c, scene.k);
+  evidence->setPrediction(cv::Mat(30, 40, CV_32F, cv::Scalar(3.5f)));  // the wall everywhere
+  DualBBoxFilter::Options o = testOptions();
+  o.geometric = false;
+  o.mask_dilation = 0;
+  o.geometric_addition.keep_static = true;
+  o.geometric_addition.candidate_min_score = 0.95;
+  PersonDetection candidate;
+  candidate.mask = cv::Mat::zeros(30, 40, CV_8U);
+  candidate.mask(scene.body).setTo(255);
+  auto removedOnBody = [&](float score, bool geometric) {
+    candidate.score = score;
+    Detections seen;
+    seen.candidates = {candidate};
+    o.geometric = geometric;
+    DualBBoxFilter filter(o);
+    filter.setDynamicEvidence(evidence);
+    return cv::countNonZero(filter.filter(scene.depth, seen).removed(scene.body));
+  };
+  EXPECT_EQ(removedOnBody(0.97f, false), scene.body.area());  // sure: 2.6 m in front of the wall
+  EXPECT_EQ(removedOnBody(0.5f, false), 0);  // only the residual would confirm it
+  EXPECT_EQ(removedOnBody(0.5f, true), scene.body.area());
+
+  o.geometric = false;
+  DualBBoxFilter filter(o);
+  filter.setDynamicEvidence(evidence);
+  const Detections seen = detections({person(12, 4, 27, 29)});
+  const DualBBoxFilter::Result kept = filter.filter(scene.depth, seen);
+  const cv::Mat floor = evidence->staticMask(scene.depth);
+  EXPECT_EQ(cv::countNonZero(floor), 11 * 30);
+  EXPECT_EQ(cv::countNonZero(kept.removed & floor), 0);  // 3 * 11 + 5 * 5 with no plane (above)
+  EXPECT_EQ(cv::countNonZero(kept.removed(scene.body)), scene.body.area());
+  filter.setDynamicEvidence(nullptr);  // no evidence: the box rules alone
+  EXPECT_EQ(cv::countNonZero(filter.filter(scene.depth, seen).removed & floor), 3 * 11 + 5 * 5);
+}
+
 // keep_static_behind_masks: the known static depth under a person's mask that lies behind their
 // interval by more than human_margin (the wall the mask's edge spills over) is kept and reported;
 // the person's own depth under the mask stays removed, known static or not.

@@ -311,10 +311,12 @@ class SlamSystem::Pipeline {
     // The keyframes' static depth seen from the guessed pose; no guess, no opinion.
     cv::Mat prediction;
     std::optional<Eigen::Hyperplane<double, 3>> floor_c;
-    if (options_.filter.geometric && guess_.known()) {
-      ScopedStageTimer timer(stats_, "predict");
+    if (guess_.known()) {
       const Eigen::Isometry3d T_w_c_guess = guess_.lastPose(keyframes) * T_cur_prev.inverse();
-      prediction = prediction_.predict(keyframes, T_w_c_guess, frame.intrinsics);
+      if (options_.filter.geometric) {
+        ScopedStageTimer timer(stats_, "predict");
+        prediction = prediction_.predict(keyframes, T_w_c_guess, frame.intrinsics);
+      }
       if (floor_.found()) floor_c = floorInCamera(T_w_c_guess);
     }
     *filtered = removal_->filter(frame, detections, T_cur_prev, prediction, stats_, floor_c);

@@ -20,13 +20,16 @@
 //               with the camera motion and dilated, guard pixels whose depth agrees with them
 //               (boxes that were missed or too small); a pixel is guarded at most temporal_max_age
 //               frames without a box supporting it;
-//   geometric — (class GeometricAddition) a DynamicEvidence hook (depth in front of a static-map prediction) marks pixels
-//               dynamic wherever it has an opinion; a detector's candidate region with enough of
-//               that evidence is removed whole (candidate_min_dynamic). With keep_static, depth
-//               the evidence knows as static is given back where only the box, ring or temporal
-//               rule took it, except on a mask and on the skeleton of a person posed without one;
-//               with keep_static_behind_masks also on a mask where it lies behind the person or
-//               in the ring the mask's dilation added.
+//   geometric — (class GeometricAddition) a DynamicEvidence hook (depth in front of a static-map
+//               prediction) marks pixels dynamic wherever it has an opinion; a detector's
+//               candidate region with enough of that evidence is removed whole
+//               (candidate_min_dynamic). With keep_static, depth the evidence knows as static is
+//               given back where only the box, ring or temporal rule took it, except on a mask and
+//               on the skeleton of a person posed without one; with keep_static_behind_masks also
+//               on a mask where it lies behind the person or in the ring the mask's dilation
+//               added. An evidence given with geometric off still confirms the candidates the
+//               detector is sure of or that follow confirmed pixels, and its static opinion still
+//               counts (a caller without the prediction gives only a floor plane).
 //   outside_masks_tracker_only — what the box, ring and temporal rules took outside the masks is
 //               kept for the map and reported for the tracker to leave out.
 #include <memory>
@@ -160,8 +163,9 @@ class DualBBoxFilter {
                                      // around it is given back (PersonDepthGate; radius 0 = off)
     bool temporal = false;           // guard with last frame's person pixels (TemporalGuard)
     TemporalGuard::Options temporal_guard;
-    bool geometric = false;          // use the DynamicEvidence given with setDynamicEvidence()
-    GeometricAddition::Options geometric_addition;  // candidates and static evidence (with geometric)
+    bool geometric = false;          // remove what the DynamicEvidence given with
+                                     // setDynamicEvidence() marks dynamic
+    GeometricAddition::Options geometric_addition;  // candidates and static evidence (any evidence)
     // With keep_static: depth under a person's dilated mask that the evidence knows as static and
     // that lies more than human_margin behind the person's interval (the wall the segmenter's
     // blurred edge, or a real person's hair, spills over) or in the ring mask_dilation added

@@ -56,11 +56,13 @@ class GeometricAddition {
   void setEvidence(std::shared_ptr<DynamicEvidence> evidence) { evidence_ = std::move(evidence); }
   bool hasEvidence() const { return evidence_ != nullptr; }
 
-  // This frame's dynamic pixels (CV_8U, 255): the evidence's opinion plus the whole mask (dilated
-  // by mask_dilation) of each candidate it confirms. People with a score above min_confidence
-  // count as confirmed for the next frame. Empty without evidence. Throws pf2::Error when the
-  // evidence's mask or a candidate's mask is not CV_8U of the depth's size.
-  cv::Mat dynamicMask(const cv::Mat& depth, const Detections& detections, double min_confidence, int mask_dilation);
+  // This frame's dynamic pixels (CV_8U, 255): the evidence's opinion (with evidence_dynamic; else
+  // none: only sure candidates and those following confirmed pixels are confirmed) plus the whole
+  // mask (dilated by mask_dilation) of each candidate confirmed. People with a score above
+  // min_confidence count as confirmed for the next frame. Empty without evidence. Throws
+  // pf2::Error when the evidence's mask or a candidate's mask is not CV_8U of the depth's size.
+  cv::Mat dynamicMask(const cv::Mat& depth, const Detections& detections, double min_confidence, int mask_dilation,
+                      bool evidence_dynamic = true);
   // Pixels the evidence knows as static and `dynamic` does not mark (CV_8U, 255); empty unless
   // keep_static is set and the evidence can tell.
   cv::Mat knownStatic(const cv::Mat& depth, const cv::Mat& dynamic);

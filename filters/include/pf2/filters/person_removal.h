@@ -40,8 +40,9 @@ class PersonRemoval {
   Detections detect(const Frame& frame, StageStats* stats);
   // The Dual-BBox filter on the frame's depth (stage "filter"): T_cur_prev moves the previous
   // frame's points into this one (identity without a guess); prediction is the static depth
-  // predicted for this view (CV_32F metres, 0 = unknown), empty for no geometric opinion; floor_c
-  // is the floor plane in this view's camera frame, if known.
+  // predicted for this view (CV_32F metres, 0 = unknown), empty for no geometric opinion, and used
+  // only with filter.geometric; floor_c is the floor plane in this view's camera frame, if known,
+  // used with or without it (a scene prior, not a residual: static where keep_static is on).
   DualBBoxFilter::Result filter(const Frame& frame, const Detections& detections, const Eigen::Isometry3d& T_cur_prev,
                                 const cv::Mat& prediction, StageStats* stats,
                                 const std::optional<Eigen::Hyperplane<double, 3>>& floor_c = std::nullopt);

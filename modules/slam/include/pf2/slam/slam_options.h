@@ -46,7 +46,8 @@ struct SlamOptions {
   DualBBoxFilter::Options filter = defaultFilterOptions();
   // The filter's geometric addition (filter.geometric): depth measured more than
   // geometric_margin metres in front of the static depth predicted from the newest keyframes is
-  // removed as moving, whether or not a detector saw a person there.
+  // removed as moving, whether or not a detector saw a person there. The floor plane below is used
+  // with it off too: a scene prior, not a residual.
   KeyframeDepthPrediction::Options prediction;
   double geometric_margin = 0.15;  // metres, > 0
   int geometric_opening = 4;       // pixels: thinner dynamic regions are dropped (>= 0)
