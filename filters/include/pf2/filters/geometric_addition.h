@@ -27,7 +27,8 @@ class DynamicEvidence {
   virtual cv::Mat dynamicMask(const cv::Mat& depth) = 0;
   // CV_8U image of depth's size, 255 where the pixel is known static (the static scene was seen
   // there at this depth before), 0 where dynamic or unknown; empty when the source cannot tell.
-  // Called once per filtered frame, after dynamicMask(); NOT required to be thread safe.
+  // Called once per filtered frame, after dynamicMask() when the filter asked for that too (it does
+  // not with its geometric addition off); NOT required to be thread safe.
   virtual cv::Mat staticMask(const cv::Mat& /*depth*/) { return cv::Mat(); }
 };
 
