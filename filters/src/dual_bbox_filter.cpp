@@ -564,6 +564,14 @@ cv::Mat removedOutsideMasks(const cv::Mat& state, const std::vector<FilterBox>& 
   return outside;
 }
 
+// The temporal guard's spared pixels (a surface that was there before, TemporalGuard::spared) that
+// are still removed in `state` and not marked by `dynamic` (may be empty): for the map alone.
+cv::Mat sparedStillRemoved(const cv::Mat& spared, const cv::Mat& state, const cv::Mat& dynamic) {
+  cv::Mat still = spared & (state == kRemoved);
+  if (!dynamic.empty()) still.setTo(0, dynamic);
+  return still;
+}
+
 // D_b keeps the depth at `pixels` (CV_8U, 255), which are reported as kept for the map only.
 void keepForMapOnly(const cv::Mat& depth, const cv::Mat& pixels, DualBBoxFilter::Result* result) {
   depth.copyTo(result->static_depth, pixels);
@@ -734,6 +742,10 @@ DualBBoxFilter::Result DualBBoxFilter::filter(const cv::Mat& depth_in, const Det
   if (o.outside_masks_tracker_only) {
     const cv::Mat outside = removedOutsideMasks(state_, boxes, dynamic);
     map_only = map_only.empty() ? outside : (map_only | outside);
+  }
+  if (o.temporal && o.temporal_guard.static_tolerance > 0.0) {
+    const cv::Mat spared = sparedStillRemoved(temporal_.spared(), state_, dynamic);
+    map_only = map_only.empty() ? spared : (map_only | spared);
   }
   collectPeople(depth, state_, boxes, intervals, areas, &result.people);
   if (o.temporal) temporal_.carry(depth, state_, areas, guarded_area);

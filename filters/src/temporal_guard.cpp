@@ -14,12 +14,19 @@ namespace {
 constexpr uint8_t kKept = TemporalGuard::kKept;
 constexpr uint8_t kRemoved = TemporalGuard::kRemoved;
 constexpr int kMaxTemporalRadius = 40;  // half-resolution cells: 80 px, a person at 0.25 m
+// Half-resolution cells around where a pixel's surface lands in the previous frame that are looked
+// at for it: the rounding to the grid and the pose's error move it by about a cell, and next to a
+// person's outline that cell may be the person's (on pf2_synth without the residual mask, 1 cell
+// rather than 0 kept 0.2-0.4 points more of the static depth).
+constexpr int kSurfaceSearch = 1;
 
 }  // namespace
 
 void TemporalGuard::reset() {
   previous_depth_.release();
   previous_age_.release();
+  previous_surface_.release();
+  previous_held_.release();
 }
 
 // Temporal addition: moved cells of neighbouring depth bands, dilated together with one radius.
@@ -42,6 +49,10 @@ cv::Rect TemporalGuard::guard(const cv::Mat& depth, const CameraIntrinsics& intr
   const cv::Size size = depth.size(), half = halfSize(size);
   age_.create(size, CV_8U);
   age_.setTo(0);
+  for (cv::Mat* m : {&held_, &spared_}) {
+    m->create(size, CV_8U);
+    m->setTo(0);
+  }
   if (previous_depth_.empty() || previous_depth_.size() != half) return cv::Rect();
   const cv::Rect bounds = warpWithCompanion(previous_depth_, previous_age_, intrinsics_.scaled(0.5), T_cur_prev,
                                             previous_bounds_, &warped_, &warped_age_);
@@ -49,7 +60,7 @@ cv::Rect TemporalGuard::guard(const cv::Mat& depth, const CameraIntrinsics& intr
   cv::Rect area;  // half-resolution cells the dilated groups cover
   const std::vector<BandGroup> groups = bandGroups(bounds, half, &area);
   dilateBandGroups(groups, half, area);
-  return guardPixels(depth, area, state);
+  return guardPixels(depth, area, T_cur_prev.inverse(), state);
 }
 
 // Temporal addition, the dilation radii: the moved cells (in bounds) grouped by depth band, each
@@ -175,9 +186,43 @@ void TemporalGuard::dilateBandGroups(const std::vector<BandGroup>& groups, const
   }
 }
 
+// How many frames in a row the guard has held, for the map, the surface pixel (u, v) sees at
+// depth z, as the previous frame saw it: moved into the previous camera (T_prev_cur), looked for
+// within kSurfaceSearch cells of where it lands on the half-resolution grid, compared within
+// static_tolerance. 0: the previous frame gave that surface to the map; -1: it saw another surface
+// there (something moved), a person's, or nothing.
+int TemporalGuard::framesHeld(int u, int v, float z, const Eigen::Isometry3d& T_prev_cur) const {
+  if (options_.static_tolerance <= 0.0 || previous_surface_.empty()) return -1;
+  const Eigen::Vector3d p_prev = T_prev_cur * intrinsics_.backProject(u, v, z);
+  if (!(p_prev.z() > 0.0)) return -1;
+  const Eigen::Vector2d q = intrinsics_.project(p_prev);
+  const double col = std::round(0.5 * q.x()), row = std::round(0.5 * q.y());
+  const cv::Rect cells = cv::Rect(static_cast<int>(std::clamp(col, -1e6, 1e6)) - kSurfaceSearch,
+                                  static_cast<int>(std::clamp(row, -1e6, 1e6)) - kSurfaceSearch,
+                                  2 * kSurfaceSearch + 1, 2 * kSurfaceSearch + 1) &
+                         cv::Rect(0, 0, previous_surface_.cols, previous_surface_.rows);
+  const float z_prev = static_cast<float>(p_prev.z());
+  const float tolerance = static_cast<float>(options_.static_tolerance + 0.01 * p_prev.z());
+  int held = -1;
+  for (int r = cells.y; r < cells.y + cells.height; ++r) {
+    const float* seen = previous_surface_.ptr<float>(r);
+    const uint8_t* seen_held = previous_held_.ptr<uint8_t>(r);
+    for (int c = cells.x; c < cells.x + cells.width; ++c) {
+      if (!(seen[c] > 0.f) || std::abs(seen[c] - z_prev) >= tolerance) continue;
+      held = held < 0 ? seen_held[c] : std::min<int>(held, seen_held[c]);
+    }
+  }
+  return held;
+}
+
 // Temporal addition, the guard: kept pixels whose depth lies in their cell's guarded range are
-// removed (state kRemoved, age_ the cell's youngest age + 1). Returns the full-resolution area.
-cv::Rect TemporalGuard::guardPixels(const cv::Mat& depth, const cv::Rect& area, cv::Mat& state) {
+// removed (state kRemoved, age_ the cell's youngest age + 1). Those whose surface the previous
+// frame gave to the map, or the guard has held from it max_age frames in a row, are marked in
+// spared_ (nothing moved there: the chair or wall beside a person, or a missed person standing
+// still); the others count in held_ the frames in a row they are held. Returns the
+// full-resolution area.
+cv::Rect TemporalGuard::guardPixels(const cv::Mat& depth, const cv::Rect& area, const Eigen::Isometry3d& T_prev_cur,
+                                    cv::Mat& state) {
   const Options& o = options_;
   const cv::Size size = depth.size(), half = halfSize(size);
   const cv::Mat nearest_inverse = nearest_inverse_(area), farthest = farthest_(area), youngest = youngest_(area);
@@ -206,12 +251,19 @@ cv::Rect TemporalGuard::guardPixels(const cv::Mat& depth, const cv::Rect& area, 
     const uint8_t* yo = youngest_.ptr<uint8_t>(v / 2);
     uint8_t* s = state.ptr<uint8_t>(v);
     uint8_t* ag = age_.ptr<uint8_t>(v);
+    uint8_t* hl = held_.ptr<uint8_t>(v);
+    uint8_t* sp = spared_.ptr<uint8_t>(v);
     // Most pixels are kept and unguarded: the early exits beat a branch-free form here.
     for (int u = full_area.x, u_end = full_area.x + full_area.width; u < u_end; ++u) {
       const int c = u / 2;
-      if (s[u] == kKept && d[u] > 0.f && d[u] > low[c] && d[u] < high[c]) {
-        s[u] = kRemoved;
-        ag[u] = static_cast<uint8_t>(yo[c] + 1);
+      if (s[u] != kKept || !(d[u] > 0.f) || d[u] <= low[c] || d[u] >= high[c]) continue;
+      s[u] = kRemoved;
+      ag[u] = static_cast<uint8_t>(yo[c] + 1);
+      const int held = framesHeld(u, v, d[u], T_prev_cur);
+      if (held == 0 || held >= o.max_age) {
+        sp[u] = 255;
+      } else {
+        hl[u] = static_cast<uint8_t>(std::max(held, 0) + 1);
       }
     }
   }
@@ -250,6 +302,32 @@ void TemporalGuard::carry(const cv::Mat& depth, const cv::Mat& state, const std:
     }
   }
   previous_bounds_ = u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
+  carrySurfaces(depth, state);
+}
+
+// Temporal addition, the carry-over of the surfaces this frame gave to the map (kept or spared)
+// or the guard held (every second pixel and row) into previous_surface_ and previous_held_.
+void TemporalGuard::carrySurfaces(const cv::Mat& depth, const cv::Mat& state) {
+  if (options_.static_tolerance <= 0.0) {
+    previous_surface_.release();
+    return;
+  }
+  const cv::Size half = halfSize(depth.size());
+  previous_surface_.create(half, CV_32F);
+  previous_held_.create(half, CV_8U);
+  for (int v = 0; v < half.height; ++v) {
+    const float* d = depth.ptr<float>(2 * v);
+    const uint8_t* s = state.ptr<uint8_t>(2 * v);
+    const uint8_t* h = held_.ptr<uint8_t>(2 * v);
+    const uint8_t* sp = spared_.ptr<uint8_t>(2 * v);
+    float* surface = previous_surface_.ptr<float>(v);
+    uint8_t* held = previous_held_.ptr<uint8_t>(v);
+    for (int u = 0; u < half.width; ++u) {
+      const bool to_map = s[2 * u] == kKept || sp[2 * u], guarded = s[2 * u] == kRemoved && h[2 * u] > 0;
+      surface[u] = to_map || guarded ? d[2 * u] : 0.f;
+      held[u] = to_map ? 0 : h[2 * u];
+    }
+  }
 }
 
 }  // namespace pf2
