@@ -45,7 +45,8 @@ void additionSettings(DualBBoxFilter::Options* f, Settings* s) {
   s->number("filter.temporal_margin", &t.margin, 0.0, 2.0, "metres", "a depth this close to the moved ones is guarded");
   s->integer("filter.temporal_max_age", &t.max_age, 0, 254, "frames", "frames a pixel is guarded without a box");
   s->number("filter.temporal_static_tolerance", &t.static_tolerance, 0.0, 0.5, "metres",
-            "plus 1 % of the depth: a pixel whose surface the previous frame kept this close is not guarded (0 = off)");
+            "plus 1 % of the depth: a guarded pixel whose surface the previous frame gave to the map (or "
+            "the guard held max_age frames) this close goes to the map, the tracker still leaves it out (0 = off)");
   s->boolean("filter.geometric", &f->geometric,
              "remove depth in front of a predicted static depth (pf2_slam: the newest keyframes'; pf2_detect: "
              "the farthest depth seen so far); off, the detector's sure candidates and pf2_slam's floor plane still "

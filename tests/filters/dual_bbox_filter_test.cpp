@@ -462,6 +462,53 @@ TEST(DualBBoxFilter, TemporalGuardWidensWithThePersonsMotionAtTheirDepth) {
   EXPECT_EQ(keptOfThePerson(0.1), 0);
 }
 
+// temporal_guard.static_tolerance: a surface beside a person, at their depth, that the previous
+// frame gave to the map (a chair) is guarded for the tracker but spared for the map; a missed
+// person who moves brings new surfaces and stays removed for both.
+TEST(DualBBoxFilter, TemporalGuardSparesForTheMapASurfaceThatWasThereBefore) {
+  // Wall at 3 m, a person at 1.5 m (cols 30..39, rows 20..49), a chair at 1.55 m beside their
+  // legs (cols 42..45, rows 38..49): outside the box's ring, inside the guard's 6 px.
+  cv::Mat scene(60, 80, CV_32F, cv::Scalar(3.0f));
+  scene(cv::Rect(30, 20, 10, 30)).setTo(1.5f);
+  const cv::Rect chair(42, 38, 4, 12);
+  scene(chair).setTo(1.55f);
+  DualBBoxFilter::Options o = testOptions();
+  o.temporal = true;
+  auto twoFrames = [&](double static_tolerance) {
+    o.temporal_guard.static_tolerance = static_tolerance;
+    DualBBoxFilter filter(o);
+    filter.setIntrinsics(CameraIntrinsics{60, 60, 40, 30, 80, 60});
+    const auto first = filter.filter(scene, detections({person(30, 20, 40, 50)}));
+    EXPECT_EQ(cv::countNonZero(first.static_depth(chair)), chair.area()) << "nothing carried yet";
+    return filter.filter(scene, detections({person(30, 20, 40, 50)}));
+  };
+  const auto paper = twoFrames(0.0);
+  EXPECT_EQ(cv::countNonZero(paper.static_depth(chair)), 0) << "the guard takes the chair";
+  const auto spared = twoFrames(0.05);
+  EXPECT_EQ(cv::countNonZero(spared.static_depth(chair)), chair.area());
+  EXPECT_EQ(cv::countNonZero(spared.removed(chair)), 0);
+  ASSERT_FALSE(spared.kept_for_map_only.empty());
+  EXPECT_EQ(cv::countNonZero(spared.kept_for_map_only), chair.area()) << "the tracker still leaves it out";
+  EXPECT_EQ(cv::countNonZero(spared.static_depth(cv::Rect(30, 20, 10, 30))), 0) << "the person stays removed";
+
+  // The person, missed from the second frame on, walks 2 px a frame to the right (no chair).
+  cv::Mat wall(60, 80, CV_32F, cv::Scalar(3.0f));
+  o.temporal_guard.static_tolerance = 0.05;
+  DualBBoxFilter filter(o);
+  filter.setIntrinsics(CameraIntrinsics{60, 60, 40, 30, 80, 60});
+  cv::Mat walking = wall.clone();
+  walking(cv::Rect(30, 20, 10, 30)).setTo(1.5f);
+  filter.filter(walking, detections({person(30, 20, 40, 50)}));
+  for (int frame = 1; frame <= 3; ++frame) {
+    const cv::Rect body(30 + 2 * frame, 20, 10, 30);
+    walking = wall.clone();
+    walking(body).setTo(1.5f);
+    const auto r = filter.filter(walking, detections({}));
+    EXPECT_EQ(cv::countNonZero(r.static_depth(body)), 0) << "frame " << frame;
+    EXPECT_TRUE(r.kept_for_map_only.empty() || cv::countNonZero(r.kept_for_map_only) == 0) << "frame " << frame;
+  }
+}
+
 // The floor at a person's feet: inside the box, at the person's depth, but far from their mask.
 // The box rule removes it; with mask_box_reach it acts only near the mask and the floor is kept,
 // the person (mask and the box pixels next to it) still removed.
